@@ -1,0 +1,53 @@
+"""strapdown: quaternion attitude determination.
+
+Conventions, stated once and obeyed everywhere:
+
+* quaternions are float arrays of shape (..., 4), scalar first ``[w, x, y, z]``, Hamilton product;
+* an attitude quaternion maps body-frame vectors to the reference frame, ``v_ref = q ⊗ v_body ⊗ q*``, and
+  ``as_matrix(q)`` is the matching body-to-reference matrix;
+* body rates update an attitude on the right, ``q_{k+1} = q_k ⊗ dq_k``;
+* angles are radians unless ``degrees=True``; every function broadcasts over leading axes and keeps float32.
+
+The quaternion algebra lives in :mod:`strapdown.quaternion`; the conversions between attitude representations
+are top-level names, in symmetric ``from_*`` / ``as_*`` pairs.  Importing the package compiles nothing: the
+numba kernels are compiled (and cached on disk) the first time a function needs them.
+"""
+
+from . import quaternion
+from .cayley_klein import as_cayley_klein, from_cayley_klein
+from .compressed import as_compressed, from_compressed
+from .euler import as_euler, from_euler
+from .frames import change_frame, frame_matrix, frame_quaternion
+from .interop import from_scipy, to_scipy
+from .matrix import as_matrix, from_matrix
+from .quaternion import angle_between, canonical, multiply
+from .rotvec import as_axis_angle, as_gibbs, as_rotvec, from_axis_angle, from_gibbs, from_rotvec
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "__version__",
+    "angle_between",
+    "as_axis_angle",
+    "as_cayley_klein",
+    "as_compressed",
+    "as_euler",
+    "as_gibbs",
+    "as_matrix",
+    "as_rotvec",
+    "canonical",
+    "change_frame",
+    "frame_matrix",
+    "frame_quaternion",
+    "from_axis_angle",
+    "from_cayley_klein",
+    "from_compressed",
+    "from_euler",
+    "from_gibbs",
+    "from_matrix",
+    "from_rotvec",
+    "from_scipy",
+    "multiply",
+    "quaternion",
+    "to_scipy",
+]

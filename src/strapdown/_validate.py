@@ -1,0 +1,145 @@
+"""Input checks shared by every public function (private).
+
+Validation happens once, in numpy, before any kernel runs; the kernels assume clean input.  Every error names
+the argument, says what is wrong and, for arrays of many rotations, the index of the first offending row.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def float_dtype(x: np.ndarray) -> np.dtype:
+    """The floating dtype a result takes: float32 stays float32, float64 stays float64, the rest widen."""
+    if x.dtype == np.float32 or x.dtype == np.float64:
+        return x.dtype
+    if x.dtype == np.float16:
+        return np.dtype(np.float32)
+    return np.dtype(np.float64)
+
+
+def first_index(mask: np.ndarray) -> str:
+    """Human-readable index of the first True element of `mask` (over leading axes)."""
+    flat = int(np.flatnonzero(mask)[0])
+    if mask.ndim == 0:
+        return ""
+    idx = np.unravel_index(flat, mask.shape)
+    return "[" + ", ".join(str(int(i)) for i in idx) + "]"
+
+
+def as_float_array(x, name: str, *, dtype=None) -> np.ndarray:
+    """Convert `x` to a real floating array, rejecting complex, string and object input by name."""
+    try:
+        arr = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise ValueError(f"{name} could not be converted to a numeric array: {exc}") from None
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{name} must be real, got a complex array")
+    if arr.dtype.kind not in "fiub":
+        try:
+            arr = arr.astype(np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be numeric, got dtype {arr.dtype}") from None
+    target = np.dtype(dtype) if dtype is not None else float_dtype(arr)
+    return arr.astype(target, copy=False)
+
+
+def check_last_axis(arr: np.ndarray, name: str, size: int, what: str) -> None:
+    """Raise unless `arr` has shape (..., size)."""
+    if arr.ndim == 0 or arr.shape[-1] != size:
+        raise ValueError(f"{name} must have shape (..., {size}) ({what}), got shape {arr.shape}")
+
+
+def check_finite(arr: np.ndarray, name: str) -> None:
+    """Raise if `arr` holds a NaN or an infinity, naming the first offending element."""
+    if not np.isfinite(arr).all():
+        bad = ~np.isfinite(arr)
+        first = arr[bad][0]
+        kind = "NaN" if np.isnan(first) else "infinite"
+        raise ValueError(f"{name}{first_index(bad)} is {kind}; {name} must hold finite numbers")
+
+
+def quaternions(q, name: str = "q", *, check: bool = True, nonzero: bool = True, dtype=None) -> np.ndarray:
+    """Validate an array of quaternions of shape (..., 4), scalar first.
+
+    Parameters
+    ----------
+    q : array_like
+        Quaternions.
+    name : str
+        Argument name used in error messages.
+    check : bool
+        When False only the dtype and shape are fixed up (the fast path for hot code).
+    nonzero : bool
+        Require a usable norm: ``|q|²`` must be a positive normal number of the dtype (all functions that
+        stand for a rotation or divide by the norm).  A zero quaternion, and one so small or so large that its
+        squared norm underflows or overflows, is rejected rather than turned into NaN or zeros downstream.
+    dtype : dtype, optional
+        Force this floating dtype.
+
+    Returns
+    -------
+    numpy.ndarray
+        Floating array of shape (..., 4).
+    """
+    arr = as_float_array(q, name, dtype=dtype)
+    check_last_axis(arr, name, 4, "quaternions [w, x, y, z]")
+    if not check:
+        return arr
+    tiny = np.finfo(arr.dtype).tiny
+    # One pass in the common case: the squared norm is finite and not below the smallest normal number.
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        n2 = np.einsum("...i,...i->...", arr, arr)
+    if np.isfinite(n2).all() and (not nonzero or (n2 >= tiny).all()):
+        return arr
+    check_finite(arr, name)
+    if nonzero:
+        zero = ~np.any(arr != 0, axis=-1)
+        if zero.any():
+            raise ValueError(
+                f"{name}{first_index(zero)} is a zero quaternion; a rotation quaternion must have a non-zero norm"
+            )
+        bad = ~(n2 >= tiny) | ~np.isfinite(n2)
+        if bad.any():
+            size = "small" if np.isfinite(n2[bad][0]) else "large"
+            raise ValueError(
+                f"{name}{first_index(bad)} has a norm too {size} to use in {arr.dtype} arithmetic "
+                f"(|{name}|² {'underflows' if size == 'small' else 'overflows'}); scale it towards 1 first"
+            )
+    return arr
+
+
+def nonzero_rows(arr: np.ndarray, name: str) -> None:
+    """Raise if a row of (..., 4) is all zeros (for rules that need no norm, such as the sign choice)."""
+    zero = ~np.any(arr != 0, axis=-1)
+    if zero.any():
+        raise ValueError(f"{name}{first_index(zero)} is a zero quaternion; it has no sign to choose")
+
+
+def vectors(v, name: str, *, check: bool = True, dtype=None) -> np.ndarray:
+    """Validate an array of 3-vectors of shape (..., 3)."""
+    arr = as_float_array(v, name, dtype=dtype)
+    check_last_axis(arr, name, 3, "3-vectors")
+    if check:
+        check_finite(arr, name)
+    return arr
+
+
+def finite(x, name: str, *, check: bool = True, dtype=None) -> np.ndarray:
+    """Validate an array of any shape holding finite real numbers."""
+    arr = as_float_array(x, name, dtype=dtype)
+    if check:
+        check_finite(arr, name)
+    return arr
+
+
+def choice(value: str, name: str, options: tuple[str, ...]) -> str:
+    """Raise unless `value` is one of `options`."""
+    if value not in options:
+        raise ValueError(f"{name} must be one of {', '.join(repr(o) for o in options)}; got {value!r}")
+    return value
+
+
+def result_dtype(*arrays: np.ndarray) -> np.dtype:
+    """Common floating dtype of several validated arrays (float32 only if all are float32)."""
+    return np.result_type(*arrays, np.float32)

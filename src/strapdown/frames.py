@@ -1,0 +1,161 @@
+"""Reference frames (NED, ENU, NWU, ...) and body axes (FRD, FLU, RFU, ...): re-expressing attitudes and vectors.
+
+A frame is named by three letters, the directions of its x, y and z axes:
+
+* reference frames use N, E, S, W, U (up) and D (down): ``"NED"`` (aviation), ``"ENU"`` (robotics, Liu et al.),
+  ``"NWU"`` (imufusion's default);
+* body axes use F (forward), B (back), R (right), L (left), U and D: ``"FRD"`` (aviation), ``"FLU"`` (ROS),
+  ``"RFU"`` (Liu et al.: right-forward-up).
+
+Any right-handed combination is accepted.  A body frame is tied to the reference frames by the usual zero
+attitude: level, nose (F) to the North, right (R) to the East.  So the identity attitude in (NED, FRD) is the
+identity in (ENU, RFU) and in (NWU, FLU).
+
+An attitude q maps body to reference; re-expressed it is
+``q' = q(ref_from → ref_to) ⊗ q ⊗ q(body_to → body_from)`` (:func:`change_frame`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _validate as _v
+
+__all__ = ["change_frame", "frame_matrix", "frame_quaternion"]
+
+# Directions in a working basis x = North/Forward, y = East/Right, z = Down.
+_REFERENCE = {
+    "N": (1, 0, 0),
+    "S": (-1, 0, 0),
+    "E": (0, 1, 0),
+    "W": (0, -1, 0),
+    "D": (0, 0, 1),
+    "U": (0, 0, -1),
+}
+_BODY = {"F": (1, 0, 0), "B": (-1, 0, 0), "R": (0, 1, 0), "L": (0, -1, 0), "D": (0, 0, 1), "U": (0, 0, -1)}
+
+
+def _axes(frame: str, name: str) -> tuple[str, np.ndarray]:
+    """(kind, rows) of a frame name: kind 'reference' or 'body'; rows are its axes in the working basis."""
+    if not isinstance(frame, str) or len(frame) != 3:
+        raise ValueError(f"{name} must be three axis letters such as 'NED', 'ENU' or 'FRD'; got {frame!r}")
+    letters = frame.upper()
+    if set(letters) <= set(_REFERENCE) and set(letters) & set("NESW"):
+        kind, table = "reference", _REFERENCE
+    elif set(letters) <= set(_BODY) and set(letters) & set("FBRL"):
+        kind, table = "body", _BODY
+    else:
+        raise ValueError(
+            f"{name}={frame!r} mixes or misuses axis letters: reference frames use N, E, S, W, U, D and "
+            "body frames use F, B, R, L, U, D"
+        )
+    rows = np.array([table[c] for c in letters], dtype=np.float64)
+    det = np.linalg.det(rows)
+    if not det > 0.5:
+        problem = "repeats a direction" if abs(det) < 0.5 else "is left-handed"
+        raise ValueError(f"{name}={frame!r} {problem}; a frame needs three right-handed axes")
+    return kind, rows
+
+
+def frame_matrix(src: str, dst: str) -> np.ndarray:
+    """Matrix M with ``v_dst = M @ v_src``: the coordinates of a vector in frame ``dst`` from those in ``src``.
+
+    Parameters
+    ----------
+    src, dst : str
+        Two reference frames (``"NED"``, ``"ENU"``, ...) or two body frames (``"FRD"``, ``"FLU"``, ...).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        A signed permutation matrix with determinant +1.
+
+    Examples
+    --------
+    >>> from strapdown import frame_matrix
+    >>> frame_matrix("NED", "ENU") @ [1.0, 2.0, 3.0]     # 1 north, 2 east, 3 down
+    array([ 2.,  1., -3.])
+    """
+    kind_src, a_src = _axes(src, "src")
+    kind_dst, a_dst = _axes(dst, "dst")
+    if kind_src != kind_dst:
+        raise ValueError(
+            f"src={src!r} is a {kind_src} frame and dst={dst!r} a {kind_dst} frame; convert between frames of "
+            "the same kind (use change_frame to re-express an attitude)"
+        )
+    return a_dst @ a_src.T
+
+
+def frame_quaternion(src: str, dst: str) -> np.ndarray:
+    """Unit quaternion of :func:`frame_matrix`, so that ``rotate(frame_quaternion(src, dst), v_src) = v_dst``.
+
+    Parameters
+    ----------
+    src, dst : str
+        Two reference frames or two body frames.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4,)
+        Canonical unit quaternion.
+
+    Examples
+    --------
+    >>> from strapdown import frame_quaternion
+    >>> frame_quaternion("ENU", "NED")
+    array([0.        , 0.70710678, 0.70710678, 0.        ])
+    """
+    from .matrix import from_matrix
+
+    return from_matrix(frame_matrix(src, dst))
+
+
+def change_frame(
+    q,
+    *,
+    ref_from: str | None = None,
+    ref_to: str | None = None,
+    body_from: str | None = None,
+    body_to: str | None = None,
+    check: bool = True,
+) -> np.ndarray:
+    """Re-express attitude quaternions in other reference and/or body axes.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Attitudes mapping ``body_from`` axes to ``ref_from`` axes.
+    ref_from, ref_to : str, optional
+        Reference frames before and after (both or neither).
+    body_from, body_to : str, optional
+        Body axes before and after (both or neither).
+    check : bool
+        Reject NaN, infinities and zero quaternions (default).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 4)
+        ``q(ref_from → ref_to) ⊗ q ⊗ q(body_to → body_from)``: the same physical attitude, mapping ``body_to``
+        axes to ``ref_to`` axes.
+
+    Examples
+    --------
+    >>> from strapdown import as_euler, change_frame, from_euler
+    >>> q_ned = from_euler([30.0, 10.0, 5.0], "ZYX", degrees=True)    # yaw 30 deg east of north
+    >>> q_enu = change_frame(q_ned, ref_from="NED", ref_to="ENU", body_from="FRD", body_to="RFU")
+    >>> as_euler(q_enu, "ZXY", degrees=True).round(9)   # Liu: heading counter-clockwise, pitch, roll
+    array([-30.,  10.,   5.])
+    """
+    from .quaternion import multiply
+
+    q = _v.quaternions(q, "q", check=check)
+    out = q
+    if (ref_from is None) != (ref_to is None):
+        raise ValueError("give both ref_from and ref_to, or neither")
+    if (body_from is None) != (body_to is None):
+        raise ValueError("give both body_from and body_to, or neither")
+    if ref_from is not None:
+        out = multiply(frame_quaternion(ref_from, ref_to).astype(q.dtype), out, check=False)
+    if body_from is not None:
+        out = multiply(out, frame_quaternion(body_to, body_from).astype(q.dtype), check=False)
+    return out

@@ -1,0 +1,43 @@
+"""Shared helpers.  Oracles here are independent of strapdown's own code (no Hamilton product is reused)."""
+
+import itertools
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+SEQUENCES = [a + b + c for a, b, c in itertools.product("xyz", repeat=3) if a != b and b != c]
+ALL_SEQUENCES = [s.upper() for s in SEQUENCES] + SEQUENCES  # 12 intrinsic + 12 extrinsic
+
+BROAD_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "broad"
+
+
+def random_quaternions(n, rng):
+    """Uniformly distributed unit quaternions (normalised 4-D Gaussians), w of either sign."""
+    q = rng.standard_normal((n, 4))
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def rotation_angle(p, q, normalize=True):
+    """Angle of the rotation between attitudes p and q, sign-invariant: 4 asin(min(|p - q|, |p + q|) / 2).
+
+    For unit quaternions |p - q|² = 2 - 2 cos(φ/2) = 4 sin²(φ/4); the chordal form is accurate for tiny
+    angles and needs no quaternion product, so it does not share code with the functions under test.
+    """
+    p = np.asarray(p, dtype=np.float64)
+    q = np.asarray(q, dtype=np.float64)
+    if normalize:
+        p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+        q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    d = np.minimum(np.linalg.norm(p - q, axis=-1), np.linalg.norm(p + q, axis=-1))
+    return 4 * np.arcsin(np.minimum(d / 2, 1.0))
+
+
+def wrapped(a):
+    """Angles wrapped into [-π, π), for comparing angle triples across the ±π seam."""
+    return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261121)

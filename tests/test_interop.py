@@ -1,0 +1,28 @@
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from conftest import random_quaternions
+from strapdown import from_scipy, to_scipy
+from strapdown import quaternion as quat
+
+
+def test_round_trip_keeps_scalar_first(rng):
+    q = random_quaternions(100, rng)
+    rot = to_scipy(q)
+    np.testing.assert_allclose(rot.as_quat(), np.roll(q, -1, axis=-1), atol=1e-16)  # scipy: scalar last
+    np.testing.assert_allclose(from_scipy(rot), q, atol=1e-16)
+
+
+def test_apply_is_rotate(rng):
+    q = random_quaternions(100, rng)
+    v = rng.standard_normal((100, 3))
+    np.testing.assert_allclose(to_scipy(q).apply(v), quat.rotate(q, v), atol=1e-14)
+
+
+def test_errors():
+    with pytest.raises(ValueError, match=r"scipy\.spatial\.transform\.Rotation"):
+        from_scipy(np.eye(3))
+    with pytest.raises(ValueError, match="zero quaternion"):
+        to_scipy([0.0, 0, 0, 0])
+    assert from_scipy(Rotation.identity()).shape == (4,)

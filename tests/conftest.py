@@ -1,10 +1,18 @@
 """Shared helpers.  Oracles here are independent of strapdown's own code (no Hamilton product is reused)."""
 
 import itertools
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import settings
+
+# CI runs are deterministic (a red run must be reproducible); HYPOTHESIS_PROFILE=explore searches afresh.
+# No deadline: the first call of a function loads or compiles its numba kernel.
+settings.register_profile("ci", deadline=None, derandomize=True, max_examples=300)
+settings.register_profile("explore", deadline=None, max_examples=3000)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 SEQUENCES = [a + b + c for a, b, c in itertools.product("xyz", repeat=3) if a != b and b != c]
 ALL_SEQUENCES = [s.upper() for s in SEQUENCES] + SEQUENCES  # 12 intrinsic + 12 extrinsic

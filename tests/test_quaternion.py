@@ -335,3 +335,12 @@ def test_extreme_norms_are_rejected_or_handled():
         quat.normalize(np.full(4, 1e300))
     with pytest.raises(ValueError, match=r"q\[1\] has a norm too small"):
         quat.normalize(np.array([[1.0, 0, 0, 0], [1e-20, 0, 0, 0]], dtype=np.float32))
+
+
+def test_log_exp_with_subnormal_squares():
+    """Found by hypothesis: vector parts below 1e-154 have subnormal squares; the direction must survive."""
+    q = np.array([-1.0, 4.48e-159, 4.48e-159, 4.48e-159])
+    lq = quat.log(q)
+    np.testing.assert_allclose(lq[1:], np.pi / np.sqrt(3), rtol=1e-15)
+    # exp of a half angle of float(π) has sin(π) = 1.2e-16, not 0: the round trip holds to that absolute level
+    np.testing.assert_allclose(quat.exp(lq), q, rtol=0, atol=1e-15)

@@ -228,6 +228,15 @@ def normalize(q, method: str = "exact", *, check: bool = True) -> np.ndarray:
     return q * ((3 - n2) / 2)
 
 
+def _norm3(v: np.ndarray) -> np.ndarray:
+    """Length of 3-vectors without underflow.
+
+    sqrt(x² + y² + z²) keeps only a few bits once the squares are subnormal (components below 1e-154), and the
+    length sets a direction, so use nested hypot.
+    """
+    return np.hypot(np.hypot(v[..., 0], v[..., 1]), v[..., 2])
+
+
 def _sinc(a: np.ndarray) -> np.ndarray:
     """sin(a)/a with the removable singularity filled; a series below 1e-4 avoids dividing by a tiny number."""
     small = a < 1e-4
@@ -264,7 +273,7 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     """
     q = _v.quaternions(q, "q", check=check, nonzero=False)
     v = q[..., 1:]
-    a = np.sqrt(np.einsum("...i,...i->...", v, v))
+    a = _norm3(v)
     scale = np.exp(q[..., 0])
     out = np.empty_like(q)
     out[..., 0] = scale * np.cos(a)
@@ -272,15 +281,21 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     return out
 
 
-def _half_angle_factor(q: np.ndarray):
-    """|v|, the half angle atan2(|v|, w) in [0, π] and θ/|v| (the factor that turns v into θ v̂)."""
+def _half_angle(q: np.ndarray):
+    """|v|, the half angle atan2(|v|, w) in [0, π], and the unit axis v̂ (zero where v = 0).
+
+    v is scaled by its largest component before it is normalised: for tiny vector parts both |v|² and |v|
+    itself can be subnormal and carry too few bits to give a unit v̂ (exp(log q) would drift by 1e-13).
+    """
     v = q[..., 1:]
-    s = np.sqrt(np.einsum("...i,...i->...", v, v))
-    half = np.arctan2(s, q[..., 0])
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        # s == 0 with w > 0: the limit of atan2(s, w)/s is 1/w.  With w < 0 the axis is undefined; see callers.
-        factor = np.where(s > 0, half / s, 1 / np.abs(q[..., 0]))
-    return s, half, factor
+    big = np.max(np.abs(v), axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scaled = v / big[..., None]
+        length = _norm3(scaled)
+        unit = scaled / length[..., None]
+    unit = np.where(big[..., None] > 0, unit, 0 * v)
+    s = np.where(big > 0, big * length, 0 * big)
+    return s, np.arctan2(s, q[..., 0]), unit
 
 
 def log(q, *, check: bool = True) -> np.ndarray:
@@ -309,11 +324,11 @@ def log(q, *, check: bool = True) -> np.ndarray:
     array([0.        , 0.        , 1.57079633, 0.        ])
     """
     q = _v.quaternions(q, "q", check=check)
-    s, _half, factor = _half_angle_factor(q)
+    s, half, unit = _half_angle(q)
     out = np.empty_like(q)
     n2 = np.einsum("...i,...i->...", q, q)
     out[..., 0] = 0.5 * np.log(n2)
-    out[..., 1:] = factor[..., None] * q[..., 1:]
+    out[..., 1:] = half[..., None] * unit
     undefined = (s == 0) & (q[..., 0] < 0)
     if undefined.any():
         out[undefined, 1] = np.pi
@@ -424,7 +439,7 @@ def angle_between(p, q, *, check: bool = True) -> np.ndarray:
     p = _v.quaternions(p, "p", check=check)
     q = _v.quaternions(q, "q", check=check)
     r = multiply(conjugate(p, check=False), q, check=False)
-    s = np.sqrt(np.einsum("...i,...i->...", r[..., 1:], r[..., 1:]))
+    s = _norm3(r[..., 1:])
     return 2 * np.arctan2(s, np.abs(r[..., 0]))
 
 
@@ -462,15 +477,12 @@ def slerp(p, q, t, *, check: bool = True) -> np.ndarray:
     dtype = _v.result_dtype(p, q, t)
     r = multiply(conjugate(p, check=False), q, check=False).astype(dtype, copy=False)
     r = np.where(r[..., :1] < 0, -r, r)  # shorter arc
-    s, half, _ = _half_angle_factor(r)
-    s, half, t = np.broadcast_arrays(s, half, t.astype(dtype, copy=False))
+    _, half, unit = _half_angle(r)
+    half, t = np.broadcast_arrays(half, t.astype(dtype, copy=False))
     th = t * half
-    with np.errstate(invalid="ignore", divide="ignore"):
-        # |vec r| = sin(half) for unit r, so sin(t half)/|vec r| -> t as the angle -> 0.
-        ratio = np.where(s > 0, np.sin(th) / s, t)
-    rt = np.empty((*s.shape, 4), dtype=dtype)
+    rt = np.empty((*half.shape, 4), dtype=dtype)
     rt[..., 0] = np.cos(th)
-    rt[..., 1:] = ratio[..., None] * r[..., 1:]
+    rt[..., 1:] = np.sin(th)[..., None] * unit
     return multiply(p, rt, check=False)
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _validate as _v
-from .quaternion import _half_angle_factor, _sinc, canonical
+from .quaternion import _half_angle, _norm3, _sinc, canonical
 
 __all__ = ["as_axis_angle", "as_gibbs", "as_rotvec", "from_axis_angle", "from_gibbs", "from_rotvec"]
 
@@ -52,7 +52,7 @@ def from_rotvec(rotvec, degrees: bool = False, *, check: bool = True) -> np.ndar
     v = _v.vectors(rotvec, "rotvec", check=check)
     if degrees:
         v = np.deg2rad(v)
-    half = 0.5 * np.sqrt(np.einsum("...i,...i->...", v, v))
+    half = 0.5 * _norm3(v)
     out = np.empty((*v.shape[:-1], 4), dtype=v.dtype)
     out[..., 0] = np.cos(half)
     out[..., 1:] = (0.5 * _sinc(half))[..., None] * v
@@ -87,8 +87,8 @@ def as_rotvec(q, degrees: bool = False, *, check: bool = True) -> np.ndarray:
     array([0. , 0.1, 0. ])
     """
     q = canonical(_v.quaternions(q, "q", check=check), check=False)
-    _, _, factor = _half_angle_factor(q)
-    out = (2 * factor)[..., None] * q[..., 1:]
+    _, half, unit = _half_angle(q)
+    out = (2 * half)[..., None] * unit
     return np.rad2deg(out) if degrees else out
 
 
@@ -122,7 +122,7 @@ def from_axis_angle(axis, angle, degrees: bool = False, *, check: bool = True) -
     dtype = _v.result_dtype(axis, angle)
     axis = axis.astype(dtype, copy=False)
     angle = angle.astype(dtype, copy=False)
-    length = np.sqrt(np.einsum("...i,...i->...", axis, axis))
+    length = _norm3(axis)
     if check and not (length > 0).all():
         raise ValueError(f"axis{_v.first_index(~(length > 0))} is a zero vector; a rotation axis must be non-zero")
     if degrees:
@@ -163,9 +163,7 @@ def as_axis_angle(q, degrees: bool = False, *, check: bool = True) -> tuple[np.n
     (array([0.57735, 0.57735, 0.57735]), 120.0)
     """
     q = canonical(_v.quaternions(q, "q", check=check), check=False)
-    s, half, _ = _half_angle_factor(q)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        axis = q[..., 1:] / s[..., None]
+    s, half, axis = _half_angle(q)
     axis[s == 0] = (1, 0, 0)
     angle = 2 * half
     return axis, (np.rad2deg(angle) if degrees else angle)

@@ -143,3 +143,9 @@ def choice(value: str, name: str, options: tuple[str, ...]) -> str:
 def result_dtype(*arrays: np.ndarray) -> np.dtype:
     """Common floating dtype of several validated arrays (float32 only if all are float32)."""
     return np.result_type(*arrays, np.float32)
+
+
+def promote(*arrays: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Cast validated arrays to their common floating dtype (float32 only if all are float32)."""
+    dtype = result_dtype(*arrays)
+    return tuple(a.astype(dtype, copy=False) for a in arrays)

@@ -361,10 +361,7 @@ def power(q, t, *, check: bool = True) -> np.ndarray:
     array([0.92387953, 0.        , 0.        , 0.38268343])
     """
     q = _v.quaternions(q, "q", check=check)
-    t = _v.finite(t, "t", check=check)
-    dtype = _v.result_dtype(q, t)
-    q = q.astype(dtype, copy=False)
-    t = t.astype(dtype, copy=False)
+    q, t = _v.promote(q, _v.finite(t, "t", check=check))
     lq = log(q, check=False)
     lq, t = np.broadcast_arrays(lq, t[..., None])
     return exp(lq * t, check=False)
@@ -398,10 +395,7 @@ def rotate(q, v, *, check: bool = True) -> np.ndarray:
     array([0., 1., 0.])
     """
     q = _v.quaternions(q, "q", check=check)
-    v = _v.vectors(v, "v", check=check)
-    dtype = _v.result_dtype(q, v)
-    q = q.astype(dtype, copy=False)
-    v = v.astype(dtype, copy=False)
+    q, v = _v.promote(q, _v.vectors(v, "v", check=check))
     w = q[..., :1]
     u = q[..., 1:]
     s = 2 / np.einsum("...i,...i->...", q, q)[..., None]

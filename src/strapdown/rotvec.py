@@ -117,11 +117,7 @@ def from_axis_angle(axis, angle, degrees: bool = False, *, check: bool = True) -
     >>> from_axis_angle([0, 0, 2], 90, degrees=True)
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
-    axis = _v.vectors(axis, "axis", check=check)
-    angle = _v.finite(angle, "angle", check=check)
-    dtype = _v.result_dtype(axis, angle)
-    axis = axis.astype(dtype, copy=False)
-    angle = angle.astype(dtype, copy=False)
+    axis, angle = _v.promote(_v.vectors(axis, "axis", check=check), _v.finite(angle, "angle", check=check))
     length = _norm3(axis)
     if check and not (length > 0).all():
         raise ValueError(f"axis{_v.first_index(~(length > 0))} is a zero vector; a rotation axis must be non-zero")
@@ -130,7 +126,7 @@ def from_axis_angle(axis, angle, degrees: bool = False, *, check: bool = True) -
     half = 0.5 * angle
     unit = axis / length[..., None]
     unit, half = np.broadcast_arrays(unit, half[..., None])
-    out = np.empty((*unit.shape[:-1], 4), dtype=dtype)
+    out = np.empty((*unit.shape[:-1], 4), dtype=axis.dtype)
     out[..., 0] = np.cos(half[..., 0])
     out[..., 1:] = np.sin(half) * unit
     return out

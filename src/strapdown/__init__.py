@@ -18,6 +18,7 @@ from .cayley_klein import as_cayley_klein, from_cayley_klein
 from .compressed import as_compressed, from_compressed
 from .euler import as_euler, from_euler
 from .frames import change_frame, frame_matrix, frame_quaternion
+from .integrate import METHODS, AttitudeIntegrator, SingularityError, integrate
 from .interop import from_scipy, to_scipy
 from .matrix import as_matrix, from_matrix
 from .quaternion import angle_between, canonical, multiply
@@ -26,6 +27,9 @@ from .rotvec import as_axis_angle, as_gibbs, as_rotvec, from_axis_angle, from_gi
 __version__ = "0.1.0"
 
 __all__ = [
+    "METHODS",
+    "AttitudeIntegrator",
+    "SingularityError",
     "__version__",
     "angle_between",
     "as_axis_angle",
@@ -47,6 +51,7 @@ __all__ = [
     "from_matrix",
     "from_rotvec",
     "from_scipy",
+    "integrate",
     "multiply",
     "quaternion",
     "to_scipy",

@@ -37,15 +37,52 @@ def as_matrix_rows(q, out):
 
 
 @nb.njit(cache=True)
-def from_matrix_rows(c, out, orth_err, det):
-    """Largest-pivot (Shepperd 1978) quaternion of each matrix, with its orthogonality error and determinant.
+def shepperd(c00, c01, c02, c10, c11, c12, c20, c21, c22):
+    """Largest-pivot (Shepperd 1978) unit quaternion of a rotation matrix, canonical sign (w > 0, ties x, y, z).
 
     Of 4w², 4x², 4y², 4z² (= 1 + tr, 1 + 2 C00 - tr, ...) the largest is taken from the diagonal, which keeps
     the square root away from zero and the divisor at least 1/2; the other three components come from the
-    off-diagonal sums and differences.  The result is normalised and put in canonical sign (w > 0, ties by
-    x, y, z), since a matrix carries no sign.  orth_err[n] = max |CᵀC - I| and det[n] = det C let the caller
-    reject matrices that are not proper rotations.
+    off-diagonal sums and differences.  The four candidates sum to 4, so the largest is at least 1 for any
+    matrix and nothing here can divide by zero; a matrix that is not a rotation gives a meaningless result.
     """
+    tr = c00 + c11 + c22
+    if tr >= c00 and tr >= c11 and tr >= c22:
+        r = math.sqrt(1.0 + tr)
+        f = 0.5 / r
+        w = 0.5 * r
+        x = (c21 - c12) * f
+        y = (c02 - c20) * f
+        z = (c10 - c01) * f
+    elif c00 >= c11 and c00 >= c22:
+        r = math.sqrt(1.0 + 2.0 * c00 - tr)
+        f = 0.5 / r
+        x = 0.5 * r
+        w = (c21 - c12) * f
+        y = (c01 + c10) * f
+        z = (c02 + c20) * f
+    elif c11 >= c22:
+        r = math.sqrt(1.0 + 2.0 * c11 - tr)
+        f = 0.5 / r
+        y = 0.5 * r
+        w = (c02 - c20) * f
+        x = (c01 + c10) * f
+        z = (c12 + c21) * f
+    else:
+        r = math.sqrt(1.0 + 2.0 * c22 - tr)
+        f = 0.5 / r
+        z = 0.5 * r
+        w = (c10 - c01) * f
+        x = (c02 + c20) * f
+        y = (c12 + c21) * f
+    inv = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
+        inv = -inv
+    return w * inv + 0.0, x * inv + 0.0, y * inv + 0.0, z * inv + 0.0
+
+
+@nb.njit(cache=True)
+def from_matrix_rows(c, out, orth_err, det):
+    """Shepperd quaternion of each matrix, with its orthogonality error max |CᵀC - I| and determinant."""
     for n in range(c.shape[0]):
         c00 = float(c[n, 0, 0])
         c01 = float(c[n, 0, 1])
@@ -56,42 +93,7 @@ def from_matrix_rows(c, out, orth_err, det):
         c20 = float(c[n, 2, 0])
         c21 = float(c[n, 2, 1])
         c22 = float(c[n, 2, 2])
-        tr = c00 + c11 + c22
-        if tr >= c00 and tr >= c11 and tr >= c22:
-            r = math.sqrt(1.0 + tr)
-            f = 0.5 / r
-            w = 0.5 * r
-            x = (c21 - c12) * f
-            y = (c02 - c20) * f
-            z = (c10 - c01) * f
-        elif c00 >= c11 and c00 >= c22:
-            r = math.sqrt(1.0 + 2.0 * c00 - tr)
-            f = 0.5 / r
-            x = 0.5 * r
-            w = (c21 - c12) * f
-            y = (c01 + c10) * f
-            z = (c02 + c20) * f
-        elif c11 >= c22:
-            r = math.sqrt(1.0 + 2.0 * c11 - tr)
-            f = 0.5 / r
-            y = 0.5 * r
-            w = (c02 - c20) * f
-            x = (c01 + c10) * f
-            z = (c12 + c21) * f
-        else:
-            r = math.sqrt(1.0 + 2.0 * c22 - tr)
-            f = 0.5 / r
-            z = 0.5 * r
-            w = (c10 - c01) * f
-            x = (c02 + c20) * f
-            y = (c12 + c21) * f
-        inv = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
-        if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
-            inv = -inv
-        out[n, 0] = w * inv + 0.0
-        out[n, 1] = x * inv + 0.0
-        out[n, 2] = y * inv + 0.0
-        out[n, 3] = z * inv + 0.0
+        out[n, 0], out[n, 1], out[n, 2], out[n, 3] = shepperd(c00, c01, c02, c10, c11, c12, c20, c21, c22)
         # CᵀC - I, entry by entry (symmetric: six distinct entries)
         e = abs(c00 * c00 + c10 * c10 + c20 * c20 - 1.0)
         e = max(e, abs(c01 * c01 + c11 * c11 + c21 * c21 - 1.0))

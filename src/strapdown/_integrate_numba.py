@@ -1,0 +1,460 @@
+"""Numba kernels for :mod:`strapdown.integrate`: the step-quaternion methods (private).
+
+exact, first-order, second-order and cayley all update ``q_{k+1} = q_k ⊗ m(φ_k)`` with a step quaternion that
+depends on the step's rotation vector φ_k alone, so the attitudes are prefix products of independent factors.
+Two kernels compute them: a sequential loop (the reference, and the streaming path, bit-identical under any
+chunking) and a parallel scan over both cores (within rounding of the sequential one).
+
+Every kernel computes in float64 whatever the storage type, and reads φ_k = g[k] · h[k·hstep] · scale, so the same
+code serves rates with a scalar or per-step dt, interval averages and increments (h = 1), in rad or deg.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ._quaternion_numba import qmul
+
+KIND_EXACT = 0
+KIND_FIRST = 1
+KIND_SECOND = 2
+KIND_CAYLEY = 3
+
+NORM_NONE = 0
+NORM_EXACT = 1
+NORM_SERIES = 2
+
+# Below this squared half angle (|φ|/2 < 0.25 rad, i.e. 28.6° per step) the Taylor series of cos and sin(x)/x in
+# u = x² with terms to u^7 is exact to double precision: the first omitted terms are u^8/16! < 1.2e-23 and
+# u^8/17! < 6.6e-25.  No square root, sine or cosine is needed (issue 3).
+TAYLOR_LIMIT = 0.0625
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def exp_half_minus_one(px, py, pz):
+    """exp(φ/2) - 1 = [cos|φ/2| - 1, φ/2 · sin|φ/2| / |φ/2|] (Gajda stage 2), with no cancellation in cos - 1.
+
+    φ = 0 needs no division.  Returning the step quaternion minus one lets the update be q + q ⊗ (m - 1): one
+    rounding of an O(1) number per component and step instead of seven, which removes a rounding bias that
+    otherwise reaches 2e-12 rad over 10^6 steps (the test of a constant rate).
+    """
+    ax = 0.5 * px
+    ay = 0.5 * py
+    az = 0.5 * pz
+    u = ax * ax + ay * ay + az * az
+    if u < TAYLOR_LIMIT:
+        cm1 = u * (
+            -1.0 / 2.0
+            + u
+            * (
+                1.0 / 24.0
+                + u
+                * (
+                    -1.0 / 720.0
+                    + u
+                    * (1.0 / 40320.0 + u * (-1.0 / 3628800.0 + u * (1.0 / 479001600.0 + u * (-1.0 / 87178291200.0))))
+                )
+            )
+        )
+        s = 1.0 + u * (
+            -1.0 / 6.0
+            + u
+            * (
+                1.0 / 120.0
+                + u
+                * (
+                    -1.0 / 5040.0
+                    + u
+                    * (
+                        1.0 / 362880.0
+                        + u * (-1.0 / 39916800.0 + u * (1.0 / 6227020800.0 + u * (-1.0 / 1307674368000.0)))
+                    )
+                )
+            )
+        )
+    else:
+        x = math.sqrt(u)
+        sh = math.sin(0.5 * x)
+        cm1 = -2.0 * sh * sh  # cos x - 1
+        s = math.sin(x) / x
+    return cm1, s * ax, s * ay, s * az
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def step_minus_one(kind, px, py, pz):
+    """m(φ) - 1 for the step quaternion m of each method (math.md §4, §7)."""
+    if kind == KIND_EXACT:
+        return exp_half_minus_one(px, py, pz)
+    if kind == KIND_FIRST:  # nabbla part 9: m = 1 + φ/2
+        return 0.0, 0.5 * px, 0.5 * py, 0.5 * pz
+    if kind == KIND_SECOND:  # Taylor of exp(φ/2) to second order: m = (1 - |φ|²/8) + φ/2
+        return -0.125 * (px * px + py * py + pz * pz), 0.5 * px, 0.5 * py, 0.5 * pz
+    # Cayley m = (1 + w)(1 - w)^-1 with w = φ/4: unit norm by construction, angle 4 atan|w|
+    wx = 0.25 * px
+    wy = 0.25 * py
+    wz = 0.25 * pz
+    w2 = wx * wx + wy * wy + wz * wz
+    inv = 1.0 / (1.0 + w2)
+    return -2.0 * w2 * inv, 2.0 * wx * inv, 2.0 * wy * inv, 2.0 * wz * inv
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def advance(w, x, y, z, dw, dx, dy, dz):
+    """Q ⊗ (1 + d) computed as q + q ⊗ d."""
+    ew, ex, ey, ez = qmul(w, x, y, z, dw, dx, dy, dz)
+    return w + ew, x + ex, y + ey, z + ez
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def renormalize(mode, w, x, y, z):
+    """Scale to unit norm: exactly, or by the division-free series (3 - |q|²)/2 (nabbla part 9)."""
+    n2 = w * w + x * x + y * y + z * z
+    if mode == NORM_EXACT:
+        f = 1.0 / math.sqrt(n2)
+    else:
+        f = 0.5 * (3.0 - n2)
+    return w * f, x * f, y * f, z * f
+
+
+@nb.njit(cache=True, error_model="numpy")
+def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out):
+    """q[b] ← q[b] ⊗ m(φ_k) for k in the chunk, writing each new attitude to out[b, k].
+
+    Normalisation follows the user's schedule literally: every `norm_every` steps (counted across chunks by
+    `counter`, the steps since the last one).  Returns the updated counter.
+    """
+    n_bodies = g.shape[0]
+    n = g.shape[1]
+    c_end = counter
+    for b in range(n_bodies):
+        w = q[b, 0]
+        x = q[b, 1]
+        y = q[b, 2]
+        z = q[b, 3]
+        c = counter
+        for k in range(n):
+            f = h[k * hstep] * scale
+            dw, dx, dy, dz = step_minus_one(kind, g[b, k, 0] * f, g[b, k, 1] * f, g[b, k, 2] * f)
+            w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
+            c += 1
+            if norm_mode != NORM_NONE and c >= norm_every:
+                w, x, y, z = renormalize(norm_mode, w, x, y, z)
+                c = 0
+            out[b, k, 0] = w
+            out[b, k, 1] = x
+            out[b, k, 2] = y
+            out[b, k, 3] = z
+        q[b, 0] = w
+        q[b, 1] = x
+        q[b, 2] = y
+        q[b, 3] = z
+        c_end = c
+    return c_end
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _local_prefix(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, chain_norm):
+    """out[k] = (w,x,y,z) ⊗ m(φ_lo) ⊗ ... ⊗ m(φ_k) for k in [lo, hi); returns the last product.
+
+    The running product is rescaled to unit norm every 16 steps (a scaling never changes the direction; it
+    keeps first-order products, whose norm grows as Π√(1 + |φ|²/4), from overflowing on long blocks).
+    """
+    for k in range(lo, hi):
+        f = h[k * hstep] * scale
+        dw, dx, dy, dz = step_minus_one(kind, g[k, 0] * f, g[k, 1] * f, g[k, 2] * f)
+        w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
+        if chain_norm and (k - lo) % 16 == 15:
+            w, x, y, z = renormalize(NORM_EXACT, w, x, y, z)
+        out[k, 0] = w
+        out[k, 1] = x
+        out[k, 2] = y
+        out[k, 3] = z
+    return w, x, y, z
+
+
+@nb.njit(cache=True, parallel=True, error_model="numpy")
+def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
+    """Parallel prefix product of the step quaternions of one body: out[k] = q ⊗ m(φ_0) ⊗ ... ⊗ m(φ_k).
+
+    The samples are processed tile by tile, so that a tile's output is still in the cores' caches when it is
+    visited the second time.  In each tile the threads take contiguous blocks: block 0 continues from the
+    incoming attitude, every other block starts from the identity.  Then each later block is rotated by the
+    attitude at its start (quaternion products are associative), with that work shared by all threads.  With
+    `unit` the outputs are normalised exactly: the direction is the sequential loop's, only rounding differs.
+    Otherwise they are the raw products.  q is the incoming attitude and is updated to the last one.
+    """
+    n = g.shape[0]
+    start_att = np.empty((n_threads + 1, 4))  # attitude at the start of each block (row 0 unused)
+    bounds = np.empty(n_threads + 1, dtype=np.int64)
+    w = q[0]
+    x = q[1]
+    y = q[2]
+    z = q[3]
+    for start in range(0, n, tile):
+        stop = min(start + tile, n)
+        size = stop - start
+        n_blocks = min(n_threads, max(1, size // 256))
+        for blk in range(n_blocks + 1):
+            bounds[blk] = start + blk * size // n_blocks
+        # phase 1: local prefix products; block 0 from the incoming attitude, the others from the identity
+        for blk in nb.prange(n_blocks):
+            if blk == 0:
+                tw, tx, ty, tz = _local_prefix(g, h, hstep, scale, kind, bounds[0], bounds[1], w, x, y, z, out, unit)
+            else:
+                tw, tx, ty, tz = _local_prefix(
+                    g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, unit
+                )
+            start_att[blk + 1, 0] = tw
+            start_att[blk + 1, 1] = tx
+            start_att[blk + 1, 2] = ty
+            start_att[blk + 1, 3] = tz
+        # phase 2: start_att[b] = attitude at the end of block b-1 (block 0's end is already absolute)
+        for blk in range(2, n_blocks):
+            tw, tx, ty, tz = qmul(
+                start_att[blk - 1, 0],
+                start_att[blk - 1, 1],
+                start_att[blk - 1, 2],
+                start_att[blk - 1, 3],
+                start_att[blk, 0],
+                start_att[blk, 1],
+                start_att[blk, 2],
+                start_att[blk, 3],
+            )
+            if unit:
+                tw, tx, ty, tz = renormalize(NORM_EXACT, tw, tx, ty, tz)
+            start_att[blk, 0] = tw
+            start_att[blk, 1] = tx
+            start_att[blk, 2] = ty
+            start_att[blk, 3] = tz
+        # phase 3: rotate blocks 1.. by their start attitudes (and normalise block 0), in equal parts per thread
+        for part in nb.prange(n_threads):
+            a = start + part * size // n_threads
+            e = start + (part + 1) * size // n_threads
+            blk = 0
+            while bounds[blk + 1] <= a and blk < n_blocks - 1:
+                blk += 1
+            for k in range(a, e):
+                if k >= bounds[blk + 1]:
+                    blk += 1
+                if blk == 0:
+                    if not unit:
+                        continue
+                    rw, rx, ry, rz = out[k, 0], out[k, 1], out[k, 2], out[k, 3]
+                else:
+                    rw, rx, ry, rz = qmul(
+                        start_att[blk, 0],
+                        start_att[blk, 1],
+                        start_att[blk, 2],
+                        start_att[blk, 3],
+                        out[k, 0],
+                        out[k, 1],
+                        out[k, 2],
+                        out[k, 3],
+                    )
+                if unit:
+                    rw, rx, ry, rz = renormalize(NORM_EXACT, rw, rx, ry, rz)
+                out[k, 0] = rw
+                out[k, 1] = rx
+                out[k, 2] = ry
+                out[k, 3] = rz
+        w = out[stop - 1, 0]
+        x = out[stop - 1, 1]
+        y = out[stop - 1, 2]
+        z = out[stop - 1, 3]
+    q[0] = w
+    q[1] = x
+    q[2] = y
+    q[3] = z
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _qvec(w, x, y, z, ox, oy, oz):
+    """½ q ⊗ (0, ω): the right-hand side of q̇ = ½ q ⊗ ω (Gajda 2.3)."""
+    rw, rx, ry, rz = qmul(w, x, y, z, 0.0, ox, oy, oz)
+    return 0.5 * rw, 0.5 * rx, 0.5 * ry, 0.5 * rz
+
+
+@nb.njit(cache=True, error_model="numpy")
+def rk4(w0, wm, w1, wq, wi, h, spans, tm, norm_mode, norm_every, counter, q, out):
+    """Classical RK4 on q̇ = ½ q ⊗ ω(t) with the rates at the start, middle and end of each step.
+
+    A step of span 2 covers two sample intervals (its stages fall on three samples, math.md §6.3); the attitude
+    at the sample inside it comes from a separate RK4 step to that sample (rates at the start, halfway to it (wq)
+    and at the inner sample itself (wi)), which is output but not fed back.
+    Renormalised on the user's schedule, counted in steps.  Returns the counter.
+    """
+    n_bodies = w0.shape[0]
+    n = w0.shape[1]
+    c_end = counter
+    for b in range(n_bodies):
+        w = q[b, 0]
+        x = q[b, 1]
+        y = q[b, 2]
+        z = q[b, 3]
+        c = counter
+        o = 0
+        for k in range(n):
+            hk = h[k]
+            a0, a1, a2, a3 = _qvec(w, x, y, z, w0[b, k, 0], w0[b, k, 1], w0[b, k, 2])
+            hh = 0.5 * hk
+            b0, b1, b2, b3 = _qvec(
+                w + hh * a0, x + hh * a1, y + hh * a2, z + hh * a3, wm[b, k, 0], wm[b, k, 1], wm[b, k, 2]
+            )
+            c0, c1, c2, c3 = _qvec(
+                w + hh * b0, x + hh * b1, y + hh * b2, z + hh * b3, wm[b, k, 0], wm[b, k, 1], wm[b, k, 2]
+            )
+            d0, d1, d2, d3 = _qvec(
+                w + hk * c0, x + hk * c1, y + hk * c2, z + hk * c3, w1[b, k, 0], w1[b, k, 1], w1[b, k, 2]
+            )
+            s = hk / 6.0
+            nw = w + s * (a0 + 2.0 * (b0 + c0) + d0)
+            nx = x + s * (a1 + 2.0 * (b1 + c1) + d1)
+            ny = y + s * (a2 + 2.0 * (b2 + c2) + d2)
+            nz = z + s * (a3 + 2.0 * (b3 + c3) + d3)
+            c += 1
+            if norm_mode != NORM_NONE and c >= norm_every:
+                nw, nx, ny, nz = renormalize(norm_mode, nw, nx, ny, nz)
+                c = 0
+            if spans[k] == 2:
+                tk = tm[k]
+                th = 0.5 * tk
+                b0, b1, b2, b3 = _qvec(
+                    w + th * a0, x + th * a1, y + th * a2, z + th * a3, wq[b, k, 0], wq[b, k, 1], wq[b, k, 2]
+                )
+                c0, c1, c2, c3 = _qvec(
+                    w + th * b0, x + th * b1, y + th * b2, z + th * b3, wq[b, k, 0], wq[b, k, 1], wq[b, k, 2]
+                )
+                d0, d1, d2, d3 = _qvec(
+                    w + tk * c0, x + tk * c1, y + tk * c2, z + tk * c3, wi[b, k, 0], wi[b, k, 1], wi[b, k, 2]
+                )
+                s = tk / 6.0
+                mw, mx, my, mz = renormalize(
+                    NORM_EXACT,
+                    w + s * (a0 + 2.0 * (b0 + c0) + d0),
+                    x + s * (a1 + 2.0 * (b1 + c1) + d1),
+                    y + s * (a2 + 2.0 * (b2 + c2) + d2),
+                    z + s * (a3 + 2.0 * (b3 + c3) + d3),
+                )
+                out[b, o, 0] = mw
+                out[b, o, 1] = mx
+                out[b, o, 2] = my
+                out[b, o, 3] = mz
+                o += 1
+            w, x, y, z = nw, nx, ny, nz
+            out[b, o, 0] = w
+            out[b, o, 1] = x
+            out[b, o, 2] = y
+            out[b, o, 3] = z
+            o += 1
+        q[b, 0] = w
+        q[b, 1] = x
+        q[b, 2] = y
+        q[b, 3] = z
+        c_end = c
+    return c_end
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@nb.njit(cache=True, error_model="numpy")
+def coning(inc, coef, c_prev, norm_mode, norm_every, counter, pos, node, alpha, beta, prev, group, out):
+    """Multi-sample rotation-vector updates (math.md §6.2) from gyro increments.
+
+    The chain advances once per group of N = coef.shape[0] increments by the group's rotation vector
+        φ = Σ Δθ_i + Σ_{i<j} coef[i, j] Δθ_i × Δθ_j + c_prev Δθ_prev × Δθ_1,
+    where Δθ_prev is the increment before the group.  Inside a group every sample still gets an attitude:
+    node ⊗ exp((α + β)/2) with Savage's two-speed recursion (β += ½ (α + Δθ_prev/6) × Δθ, α += Δθ), fourth
+    order in the sample interval; these outputs do not feed the chain.  pos is the position in the current
+    group (shared by all bodies); returns (pos, counter).
+    """
+    n_bodies = inc.shape[0]
+    n = inc.shape[1]
+    size = coef.shape[0]
+    pos_end = pos
+    c_end = counter
+    for b in range(n_bodies):
+        p = pos
+        c = counter
+        for k in range(n):
+            dx = inc[b, k, 0]
+            dy = inc[b, k, 1]
+            dz = inc[b, k, 2]
+            group[b, p, 0] = dx
+            group[b, p, 1] = dy
+            group[b, p, 2] = dz
+            # Savage partial update (used for outputs inside the group)
+            sx = alpha[b, 0] + prev[b, 0] / 6.0
+            sy = alpha[b, 1] + prev[b, 1] / 6.0
+            sz = alpha[b, 2] + prev[b, 2] / 6.0
+            cx, cy, cz = _cross(sx, sy, sz, dx, dy, dz)
+            beta[b, 0] += 0.5 * cx
+            beta[b, 1] += 0.5 * cy
+            beta[b, 2] += 0.5 * cz
+            alpha[b, 0] += dx
+            alpha[b, 1] += dy
+            alpha[b, 2] += dz
+            p += 1
+            if p == size:
+                # the group's rotation vector by the chosen coefficient set
+                fx = alpha[b, 0]
+                fy = alpha[b, 1]
+                fz = alpha[b, 2]
+                for i in range(size):
+                    for j in range(i + 1, size):
+                        kij = coef[i, j]
+                        if kij != 0.0:
+                            cx, cy, cz = _cross(
+                                group[b, i, 0],
+                                group[b, i, 1],
+                                group[b, i, 2],
+                                group[b, j, 0],
+                                group[b, j, 1],
+                                group[b, j, 2],
+                            )
+                            fx += kij * cx
+                            fy += kij * cy
+                            fz += kij * cz
+                if c_prev != 0.0:
+                    # only with groups of one ("one plus previous"): prev is the previous sample's increment
+                    cx, cy, cz = _cross(
+                        prev[b, 0], prev[b, 1], prev[b, 2], group[b, 0, 0], group[b, 0, 1], group[b, 0, 2]
+                    )
+                    fx += c_prev * cx
+                    fy += c_prev * cy
+                    fz += c_prev * cz
+                mw, mx, my, mz = exp_half_minus_one(fx, fy, fz)
+                w, x, y, z = advance(node[b, 0], node[b, 1], node[b, 2], node[b, 3], mw, mx, my, mz)
+                c += 1
+                if norm_mode != NORM_NONE and c >= norm_every:
+                    w, x, y, z = renormalize(norm_mode, w, x, y, z)
+                    c = 0
+                node[b, 0] = w
+                node[b, 1] = x
+                node[b, 2] = y
+                node[b, 3] = z
+                for i in range(3):
+                    alpha[b, i] = 0.0
+                    beta[b, i] = 0.0
+                p = 0
+            else:
+                mw, mx, my, mz = exp_half_minus_one(
+                    alpha[b, 0] + beta[b, 0], alpha[b, 1] + beta[b, 1], alpha[b, 2] + beta[b, 2]
+                )
+                w, x, y, z = advance(node[b, 0], node[b, 1], node[b, 2], node[b, 3], mw, mx, my, mz)
+            # for a group of one the "previous" increment is this sample's; otherwise the last in the group
+            prev[b, 0] = dx
+            prev[b, 1] = dy
+            prev[b, 2] = dz
+            out[b, k, 0] = w
+            out[b, k, 1] = x
+            out[b, k, 2] = y
+            out[b, k, 3] = z
+        pos_end = p
+        c_end = c
+    return pos_end, c_end

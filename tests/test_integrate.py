@@ -524,3 +524,25 @@ def test_warn_mode_counts(recwarn):
         warnings.simplefilter("always")
         _climb("euler-angles", on_singular="warn")
     assert any("step(s)" in str(w.message) for w in recwarn)
+
+
+@pytest.mark.parametrize("method", ["exact", "first-order", "cayley"])
+@pytest.mark.parametrize("n", [100, 100_000])  # sequential loop and two-core scan
+def test_non_finite_samples_anywhere_are_reported(method, n):
+    for where in (0, n // 3, n - 1):
+        for bad in (np.nan, np.inf, -np.inf):
+            g = np.full((n, 3), 0.1)
+            g[where, 1] = bad
+            with pytest.raises(ValueError, match=rf"gyro\[{where}, 1\] is (NaN|infinite)"):
+                integrate(g, 0.01, method=method)
+
+
+def test_overflowing_steps_are_reported_and_the_stream_survives():
+    integ = AttitudeIntegrator("exact")
+    integ.update(np.full((10, 3), 0.1), 0.01)
+    before = integ.state
+    with pytest.raises(ValueError, match="overflow"):
+        integ.update(np.full((10, 3), 1e308), 0.01)
+    after = integ.state
+    np.testing.assert_array_equal(after.q, before.q)
+    assert after.steps_in == before.steps_in

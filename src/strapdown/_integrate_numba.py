@@ -31,6 +31,7 @@ NORM_SERIES = 2
 # u = x² with terms to u^7 is exact to double precision: the first omitted terms are u^8/16! < 1.2e-23 and
 # u^8/17! < 6.6e-25.  No square root, sine or cosine is needed (issue 3).
 TAYLOR_LIMIT = 0.0625
+TAYLOR_SHORT = 0.01
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -45,7 +46,10 @@ def exp_half_minus_one(px, py, pz):
     ay = 0.5 * py
     az = 0.5 * pz
     u = ax * ax + ay * ay + az * az
-    if u < TAYLOR_LIMIT:
+    if u < TAYLOR_SHORT:  # |φ/2| < 0.1: terms to u^4; the first omitted are u^5/10! < 2.8e-17, u^5/11! < 2.6e-18
+        cm1 = u * (-1.0 / 2.0 + u * (1.0 / 24.0 + u * (-1.0 / 720.0 + u * (1.0 / 40320.0))))
+        s = 1.0 + u * (-1.0 / 6.0 + u * (1.0 / 120.0 + u * (-1.0 / 5040.0 + u * (1.0 / 362880.0))))
+    elif u < TAYLOR_LIMIT:  # |φ/2| < 0.25: terms to u^7
         cm1 = u * (
             -1.0 / 2.0
             + u
@@ -108,6 +112,90 @@ def advance(w, x, y, z, dw, dx, dy, dz):
     return w + ew, x + ex, y + ey, z + ez
 
 
+BLOCK = 512  # samples per pass: the buffers stay in L1
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _half_angles(g, lo, hi, h, hstep, scale, ax, ay, az, u):
+    """Half rotation vectors a = φ/2 of samples lo..hi into separate x, y, z buffers, and |a|².
+
+    A plain scalar loop: it turns the interleaved (n, 3) samples into contiguous columns, which the next pass
+    needs to vectorise (strided loads kept LLVM's vector code three times slower than scalar columns).
+    """
+    for i in range(hi - lo):
+        k = lo + i
+        f = 0.5 * h[k * hstep] * scale
+        x = g[k, 0] * f
+        y = g[k, 1] * f
+        z = g[k, 2] * f
+        ax[i] = x
+        ay[i] = y
+        az[i] = z
+        u[i] = x * x + y * y + z * z
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _steps_minus_one(kind, m, ax, ay, az, u, cm):
+    """m(φ) - 1 of a block, branch-free so that LLVM vectorises it: cm ← scalar part, a ← vector part.
+
+    exact uses the Taylor series to u^7 everywhere here (exact to double precision for u < 0.0625); the chain
+    pass recomputes the rare larger steps with sin and cos.  No fast-math: a sample's result must not depend on
+    whether it falls in the vector body or the scalar remainder (bit-identical chunking).
+    """
+    if kind == KIND_EXACT:
+        for i in range(m):
+            v = u[i]
+            c = v * (
+                -1.0 / 2.0
+                + v
+                * (
+                    1.0 / 24.0
+                    + v
+                    * (
+                        -1.0 / 720.0
+                        + v
+                        * (
+                            1.0 / 40320.0
+                            + v * (-1.0 / 3628800.0 + v * (1.0 / 479001600.0 + v * (-1.0 / 87178291200.0)))
+                        )
+                    )
+                )
+            )
+            s = 1.0 + v * (
+                -1.0 / 6.0
+                + v
+                * (
+                    1.0 / 120.0
+                    + v
+                    * (
+                        -1.0 / 5040.0
+                        + v
+                        * (
+                            1.0 / 362880.0
+                            + v * (-1.0 / 39916800.0 + v * (1.0 / 6227020800.0 + v * (-1.0 / 1307674368000.0)))
+                        )
+                    )
+                )
+            )
+            cm[i] = c
+            ax[i] *= s
+            ay[i] *= s
+            az[i] *= s
+    elif kind == KIND_FIRST:
+        for i in range(m):
+            cm[i] = 0.0
+    elif kind == KIND_SECOND:  # -|φ|²/8 = -u/2
+        for i in range(m):
+            cm[i] = -0.5 * u[i]
+    else:  # Cayley with w = φ/4 = a/2: m - 1 = (-2|w|², 2w) / (1 + |w|²)
+        for i in range(m):
+            inv = 1.0 / (1.0 + 0.25 * u[i])
+            cm[i] = -0.5 * u[i] * inv
+            ax[i] *= inv
+            ay[i] *= inv
+            az[i] *= inv
+
+
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def renormalize(mode, w, x, y, z):
     """Scale to unit norm: exactly, or by the division-free series (3 - |q|²)/2 (nabbla part 9)."""
@@ -129,24 +217,38 @@ def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out)
     n_bodies = g.shape[0]
     n = g.shape[1]
     c_end = counter
+    ax = np.empty(BLOCK)
+    ay = np.empty(BLOCK)
+    az = np.empty(BLOCK)
+    u = np.empty(BLOCK)
+    cm = np.empty(BLOCK)
     for b in range(n_bodies):
+        gb = g[b]
         w = q[b, 0]
         x = q[b, 1]
         y = q[b, 2]
         z = q[b, 3]
         c = counter
-        for k in range(n):
-            f = h[k * hstep] * scale
-            dw, dx, dy, dz = step_minus_one(kind, g[b, k, 0] * f, g[b, k, 1] * f, g[b, k, 2] * f)
-            w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
-            c += 1
-            if norm_mode != NORM_NONE and c >= norm_every:
-                w, x, y, z = renormalize(norm_mode, w, x, y, z)
-                c = 0
-            out[b, k, 0] = w
-            out[b, k, 1] = x
-            out[b, k, 2] = y
-            out[b, k, 3] = z
+        for lo in range(0, n, BLOCK):
+            hi = min(lo + BLOCK, n)
+            _half_angles(gb, lo, hi, h, hstep, scale, ax, ay, az, u)
+            _steps_minus_one(kind, hi - lo, ax, ay, az, u, cm)
+            for i in range(hi - lo):
+                k = lo + i
+                if kind == KIND_EXACT and u[i] >= TAYLOR_LIMIT:  # a large step: sin and cos
+                    f = h[k * hstep] * scale
+                    dw, dx, dy, dz = exp_half_minus_one(gb[k, 0] * f, gb[k, 1] * f, gb[k, 2] * f)
+                else:
+                    dw, dx, dy, dz = cm[i], ax[i], ay[i], az[i]
+                w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
+                c += 1
+                if norm_mode != NORM_NONE and c >= norm_every:
+                    w, x, y, z = renormalize(norm_mode, w, x, y, z)
+                    c = 0
+                out[b, k, 0] = w
+                out[b, k, 1] = x
+                out[b, k, 2] = y
+                out[b, k, 3] = z
         q[b, 0] = w
         q[b, 1] = x
         q[b, 2] = y
@@ -159,19 +261,36 @@ def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out)
 def _local_prefix(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, chain_norm):
     """out[k] = (w,x,y,z) ⊗ m(φ_lo) ⊗ ... ⊗ m(φ_k) for k in [lo, hi); returns the last product.
 
-    The running product is rescaled to unit norm every 16 steps (a scaling never changes the direction; it
-    keeps first-order products, whose norm grows as Π√(1 + |φ|²/4), from overflowing on long blocks).
+    With chain_norm the running product is rescaled to unit norm every 16 steps (a scaling never changes the
+    direction; it keeps first-order products, whose norm grows as Π√(1 + |φ|²/4), from overflowing on long
+    blocks).  Norm-preserving steps need no rescaling inside a block: their norm drifts by rounding only.
     """
-    for k in range(lo, hi):
-        f = h[k * hstep] * scale
-        dw, dx, dy, dz = step_minus_one(kind, g[k, 0] * f, g[k, 1] * f, g[k, 2] * f)
-        w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
-        if chain_norm and (k - lo) % 16 == 15:
-            w, x, y, z = renormalize(NORM_EXACT, w, x, y, z)
-        out[k, 0] = w
-        out[k, 1] = x
-        out[k, 2] = y
-        out[k, 3] = z
+    ax = np.empty(BLOCK)
+    ay = np.empty(BLOCK)
+    az = np.empty(BLOCK)
+    u = np.empty(BLOCK)
+    cm = np.empty(BLOCK)
+    j = 0
+    for start in range(lo, hi, BLOCK):
+        stop = min(start + BLOCK, hi)
+        _half_angles(g, start, stop, h, hstep, scale, ax, ay, az, u)
+        _steps_minus_one(kind, stop - start, ax, ay, az, u, cm)
+        for i in range(stop - start):
+            k = start + i
+            if kind == KIND_EXACT and u[i] >= TAYLOR_LIMIT:  # a large step: sin and cos
+                f = h[k * hstep] * scale
+                dw, dx, dy, dz = exp_half_minus_one(g[k, 0] * f, g[k, 1] * f, g[k, 2] * f)
+            else:
+                dw, dx, dy, dz = cm[i], ax[i], ay[i], az[i]
+            w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
+            j += 1
+            if chain_norm and j == 16:
+                w, x, y, z = renormalize(NORM_EXACT, w, x, y, z)
+                j = 0
+            out[k, 0] = w
+            out[k, 1] = x
+            out[k, 2] = y
+            out[k, 3] = z
     return w, x, y, z
 
 
@@ -183,10 +302,17 @@ def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
     visited the second time.  In each tile the threads take contiguous blocks: block 0 continues from the
     incoming attitude, every other block starts from the identity.  Then each later block is rotated by the
     attitude at its start (quaternion products are associative), with that work shared by all threads.  With
-    `unit` the outputs are normalised exactly: the direction is the sequential loop's, only rounding differs.
-    Otherwise they are the raw products.  q is the incoming attitude and is updated to the last one.
+    `unit` the outputs are normalised: the direction is the sequential loop's, only rounding differs.  Otherwise
+    they are the raw products.  q is the incoming attitude and is updated to the last one.
+
+    Norm-preserving steps (exact, cayley) keep the products within rounding of unit norm over a block, and the
+    division-free series finishes the outputs; first- and second-order steps grow the norm by |φ|²/8 a step,
+    so their products are rescaled every 16 steps and the outputs divided by their norm.
     """
     n = g.shape[0]
+    preserving = kind == KIND_EXACT or kind == KIND_CAYLEY
+    fix_mode = NORM_SERIES if preserving else NORM_EXACT
+    chain_norm = unit and not preserving
     start_att = np.empty((n_threads + 1, 4))  # attitude at the start of each block (row 0 unused)
     bounds = np.empty(n_threads + 1, dtype=np.int64)
     w = q[0]
@@ -202,10 +328,12 @@ def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
         # phase 1: local prefix products; block 0 from the incoming attitude, the others from the identity
         for blk in nb.prange(n_blocks):
             if blk == 0:
-                tw, tx, ty, tz = _local_prefix(g, h, hstep, scale, kind, bounds[0], bounds[1], w, x, y, z, out, unit)
+                tw, tx, ty, tz = _local_prefix(
+                    g, h, hstep, scale, kind, bounds[0], bounds[1], w, x, y, z, out, chain_norm
+                )
             else:
                 tw, tx, ty, tz = _local_prefix(
-                    g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, unit
+                    g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, chain_norm
                 )
             start_att[blk + 1, 0] = tw
             start_att[blk + 1, 1] = tx
@@ -224,7 +352,7 @@ def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
                 start_att[blk, 3],
             )
             if unit:
-                tw, tx, ty, tz = renormalize(NORM_EXACT, tw, tx, ty, tz)
+                tw, tx, ty, tz = renormalize(fix_mode, tw, tx, ty, tz)
             start_att[blk, 0] = tw
             start_att[blk, 1] = tx
             start_att[blk, 2] = ty
@@ -255,7 +383,7 @@ def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
                         out[k, 3],
                     )
                 if unit:
-                    rw, rx, ry, rz = renormalize(NORM_EXACT, rw, rx, ry, rz)
+                    rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
                 out[k, 0] = rw
                 out[k, 1] = rx
                 out[k, 2] = ry

@@ -318,15 +318,20 @@ class AttitudeIntegrator:
                 state[:, :3] = np.where(w[:, None] != 0, 2 * q[:, 1:] / w[:, None], np.inf)
         return state
 
-    def _times(self, n: int, dt, t) -> tuple[np.ndarray, np.ndarray | None]:
-        """Per-step durations h (n,) and step end times (n,) relative to t0 (None for untimed increments)."""
+    def _times(self, n: int, dt, t) -> tuple[np.ndarray, np.ndarray | None, float]:
+        """Step durations, step end times and the end of the chunk's last step.
+
+        Returns h of shape (n,) or (1,), the step end times relative to t0 when the rate model needs them (else
+        None), and the end of the last step (NaN for increments without times).
+        """
         st = self._state
         if dt is not None and t is not None:
             raise ValueError("give either dt or t, not both")
         if dt is None and t is None:
             if self.input == "increment":
-                return np.ones(1), None
+                return np.ones(1), None, np.nan
             raise ValueError("dt or t is required for rate samples (seconds per step, or step end times)")
+        prev_end = st.t_end if np.isfinite(st.t_end) else 0.0
         if dt is not None:
             dt_arr = _v.finite(dt, "dt", dtype=np.float64)
             if dt_arr.ndim == 0:
@@ -335,20 +340,20 @@ class AttitudeIntegrator:
                     raise ValueError(f"dt must be positive, got {d!r}")
                 k0 = st.steps_in
                 if self._dt_anchor is None or self._dt_anchor[2] != d:
-                    self._dt_anchor = (k0, st.t_end if np.isfinite(st.t_end) else 0.0, d)
+                    self._dt_anchor = (k0, prev_end, d)
+                st.extra["dt_anchor"] = self._dt_anchor
                 ka, ta, _ = self._dt_anchor
                 # t_k = t_anchor + (k - k_anchor) dt from the global step index: the same for any chunking
-                ends = ta + (np.arange(k0 + 1, k0 + n + 1) - ka) * d
-                st.extra["dt_anchor"] = self._dt_anchor
-                return np.array([d]), ends
+                last = ta + (k0 + n - ka) * d if n else st.t_end
+                ends = ta + (np.arange(k0 + 1, k0 + n + 1) - ka) * d if self._cubic else None
+                return np.array([d]), ends, last
             if dt_arr.shape != (n,):
                 raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {dt_arr.shape}")
             if not (dt_arr > 0).all():
                 raise ValueError(f"dt{_v.first_index(~(dt_arr > 0))} is not positive; durations must be > 0")
             self._dt_anchor = None
-            start = st.t_end if np.isfinite(st.t_end) else 0.0
-            ends = np.cumsum(np.concatenate([[start], dt_arr]))[1:]
-            return dt_arr, ends
+            ends = np.cumsum(np.concatenate([[prev_end], dt_arr]))[1:]
+            return dt_arr, ends, float(ends[-1]) if n else st.t_end
         t_arr = _v.finite(t, "t", dtype=np.float64)
         if t_arr.shape != (n,):
             raise ValueError(
@@ -357,7 +362,6 @@ class AttitudeIntegrator:
             )
         self._dt_anchor = None
         ends = t_arr - self.t0
-        prev_end = st.t_end if np.isfinite(st.t_end) else 0.0
         full = np.concatenate([[prev_end], ends])
         steps = np.diff(full)
         if not (steps > 0).all():
@@ -366,7 +370,7 @@ class AttitudeIntegrator:
                 f"t is not strictly increasing at sample {st.steps_in + i}: {full[i] + self.t0!r} -> "
                 f"{full[i + 1] + self.t0!r}"
             )
-        return steps, ends
+        return steps, ends, float(ends[-1]) if n else st.t_end
 
     # ----------------------------------------------------------------------------------------------------
     def update(self, gyro, dt=None, t=None) -> np.ndarray:
@@ -388,31 +392,7 @@ class AttitudeIntegrator:
             that read ω(t) from the cubic through neighbouring rate samples, which lag by up to three samples
             (:meth:`finish` returns the rest).
         """
-        if self._finished:
-            raise ValueError("this integrator has been finished; create a new one (or set its state)")
-        arr = _v.as_float_array(gyro, "gyro")
-        if arr.ndim not in (2, 3) or arr.shape[-1] != 3:
-            raise ValueError(f"gyro must have shape (n, 3) or (B, n, 3), got shape {arr.shape}")
-        single = arr.ndim == 2
-        g = arr[None] if single else arr
-        _v.check_finite(g[0] if single else g, "gyro")
-        if self._state is None:
-            self._start(g.shape[0], single, arr.dtype)
-        st = self._state
-        if g.shape[0] != st.q.shape[0] or single != st.extra["single"]:
-            raise ValueError(f"gyro has {g.shape[0]} bodies; this integrator was started with {st.q.shape[0]}")
-        n = g.shape[1]
-        h, ends = self._times(n, dt, t)
-        if self.input == "increment":
-            h = np.ones(1)  # an increment is the step's rotation vector whatever the step lasted
-        g = np.ascontiguousarray(g)
-        if self.rate_frame == "reference":
-            g = -g
-        out = self._advance(g, h, ends, final=False)
-        st.steps_in += n
-        if ends is not None:
-            st.t_end = float(ends[-1]) if n else st.t_end
-        return self._emit(out)
+        return self._public(self._process(self._prepare(gyro), dt, t))
 
     def finish(self) -> np.ndarray:
         """Complete the steps still waiting for later samples (cubic rate model only) and close the integrator.
@@ -424,32 +404,82 @@ class AttitudeIntegrator:
         """
         if self._state is None:
             raise ValueError("nothing to finish: no samples were given")
+        raw = self._finish_raw()
         self._finished = True
-        st = self._state
-        empty = np.zeros((st.q.shape[0], 0, 3))
-        out = self._advance(empty, np.ones(1), np.zeros(0), final=True) if self._cubic else empty[..., :0]
-        return self._emit(out if out.shape[-1] == 4 else np.zeros((st.q.shape[0], 0, 4)))
+        return self._public(raw)
 
-    def _initial_output(self) -> np.ndarray:
-        """q0 as the first row of a batch result: shape (1, 4) or (B, 1, 4)."""
+    def _prepare(self, gyro) -> np.ndarray:
+        """Validated samples as a C-contiguous (B, n, 3) array in the internal frame; starts the state."""
+        if self._finished:
+            raise ValueError("this integrator has been finished; create a new one (or set its state)")
+        arr = _v.as_float_array(gyro, "gyro")
+        if arr.ndim not in (2, 3) or arr.shape[-1] != 3:
+            raise ValueError(f"gyro must have shape (n, 3) or (B, n, 3), got shape {arr.shape}")
+        single = arr.ndim == 2
+        if self.method not in _STEP_KINDS:
+            _v.check_finite(arr, "gyro")  # the step methods check their last attitude instead (_process)
+        g = arr[None] if single else arr
+        if self._state is None:
+            self._start(g.shape[0], single, arr.dtype)
         st = self._state
-        return self._emit(st.extra["q_start"][:, None, :], count=False)
+        if g.shape[0] != st.q.shape[0] or single != st.extra["single"]:
+            raise ValueError(f"gyro has {g.shape[0]} bodies; this integrator was started with {st.q.shape[0]}")
+        g = np.ascontiguousarray(g)
+        return -g if self.rate_frame == "reference" else g
 
-    def _emit(self, out: np.ndarray, count: bool = True) -> np.ndarray:
+    def _process(self, g: np.ndarray, dt, t, out: np.ndarray | None = None) -> np.ndarray:
+        """Advance over prepared samples; returns the new attitudes (B, m, 4), internal frame, float64.
+
+        With `out` (a (B, ≥ n, 4) float64 buffer) the step-quaternion methods write into it directly.
+        """
         st = self._state
-        if count:
-            if out.shape[1]:
-                st.extra["last_out"] = out[:, -1].copy()
-            st.steps_out += out.shape[1]
-        if self.rate_frame == "reference":
-            out = out * np.array([1.0, -1.0, -1.0, -1.0])
-        out = out.astype(st.extra["dtype"] if st.extra["dtype"] == np.float32 else np.float64, copy=False)
-        return out[0] if st.extra["single"] else out
-
-    # ----------------------------------------------------------------------------------------------------
-    def _advance(self, g, h, ends, final) -> np.ndarray:
+        n = g.shape[1]
+        h, ends, last = self._times(n, dt, t)
+        if self.input == "increment":
+            h = np.ones(1)  # an increment is the step's rotation vector whatever the step lasted
         if self.method in _STEP_KINDS:
-            return self._run_step_kind(g, h)
+            saved = st.copy()
+            raw = self._run_step_kind(g, h, None if out is None else out[:, :n])
+            # A NaN or infinite sample poisons every later attitude of the product chain (and of the scan's
+            # block offsets), so a finite last attitude proves the input finite without a pass over it.
+            if n and not np.isfinite(raw[:, -1]).all():
+                self._state = saved
+                _v.check_finite(g[0] if st.extra["single"] else g, "gyro")
+                raise ValueError(
+                    "gyro: the step rotations overflow (|gyro| dt is too large to represent); check the units "
+                    "and the time step"
+                )
+        else:
+            raw = self._run_model(g, h, ends, final=False)
+        st.steps_in += n
+        st.t_end = last
+        self._count(raw)
+        return raw
+
+    def _finish_raw(self) -> np.ndarray:
+        st = self._state
+        if not self._cubic:
+            return np.zeros((st.q.shape[0], 0, 4))
+        raw = self._run_model(np.zeros((st.q.shape[0], 0, 3)), np.ones(1), np.zeros(0), final=True)
+        self._count(raw)
+        return raw
+
+    def _count(self, raw: np.ndarray) -> None:
+        st = self._state
+        if raw.shape[1]:
+            st.extra["last_out"] = raw[:, -1].copy()
+        st.steps_out += raw.shape[1]
+
+    def _public(self, raw: np.ndarray) -> np.ndarray:
+        """Internal float64 attitudes -> the caller's frame, dtype and shape."""
+        st = self._state
+        if self.rate_frame == "reference":
+            raw = raw * np.array([1.0, -1.0, -1.0, -1.0])
+        if st.extra["dtype"] == np.float32:
+            raw = raw.astype(np.float32)
+        return raw[0] if st.extra["single"] else raw
+
+    def _run_model(self, g, h, ends, final) -> np.ndarray:
         w0, wm, w1, inc, hs = self._rate_model(g, h, ends, final)
         if self.method == "rk4":
             return self._run_rk4(w0, wm, w1, hs)
@@ -457,14 +487,15 @@ class AttitudeIntegrator:
             return self._run_coning(inc)
         return self._run_baseline(w0, wm, w1, hs)
 
-    def _run_step_kind(self, g, h) -> np.ndarray:
+    def _run_step_kind(self, g, h, out=None) -> np.ndarray:
         from . import _integrate_numba as k
 
         st = self._state
         kind = _STEP_KINDS[self.method]
         norm = _NORMALIZE[self.normalize]
         n_bodies, n, _ = g.shape
-        out = np.empty((n_bodies, n, 4))
+        if out is None:
+            out = np.empty((n_bodies, n, 4))
         if n == 0:
             return out
         hstep = 1 if h.shape[0] > 1 else 0
@@ -765,6 +796,15 @@ def integrate(
         t0 = float(t_arr[0])
         ends = t_arr[1:]
     integ = AttitudeIntegrator(method, q0=q0, input=input, rate_frame=rate_frame, degrees=degrees, t0=t0, **options)
-    body = integ.update(arr, dt=dt, t=ends)
-    rest = integ.finish()
-    return np.concatenate([integ._initial_output(), body, rest], axis=arr.ndim - 2)
+    g = integ._prepare(arr)
+    st = integ._state
+    # one result array: q0, then the kernels write the attitudes straight after it
+    result = np.empty((g.shape[0], n + 1, 4))
+    result[:, 0] = st.q
+    body = integ._process(g, dt, ends, out=result[:, 1:])
+    m = body.shape[1]
+    if m and not np.shares_memory(body, result):
+        result[:, 1 : m + 1] = body
+    result[:, m + 1 :] = integ._finish_raw()
+    integ._finished = True
+    return integ._public(result)

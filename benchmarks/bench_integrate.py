@@ -19,23 +19,14 @@ import json
 import math
 import platform
 import sys
-import time
 
 import numba
 import numpy as np
 
 import strapdown
+from _timing import best_time
 from strapdown import integrate
 from strapdown import quaternion as quat
-
-
-def best_time(func, repeat):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def closed_form(q0, omega, t):

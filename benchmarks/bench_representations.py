@@ -22,16 +22,8 @@ import scipy
 from scipy.spatial.transform import Rotation
 
 import strapdown
+from _timing import best_time
 from strapdown import as_euler, as_matrix, from_euler, from_matrix, multiply
-
-
-def best_time(func, repeat):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def first_call(func):

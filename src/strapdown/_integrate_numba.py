@@ -208,69 +208,19 @@ def renormalize(mode, w, x, y, z):
 
 
 @nb.njit(cache=True, error_model="numpy")
-def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out):
-    """q[b] ← q[b] ⊗ m(φ_k) for k in the chunk, writing each new attitude to out[b, k].
+def _chain(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, norm_mode, norm_every, counter):
+    """out[k] = (w,x,y,z) ⊗ m(φ_lo) ⊗ ... ⊗ m(φ_k) for k in [lo, hi), renormalised every `norm_every` steps.
 
-    Normalisation follows the user's schedule literally: every `norm_every` steps (counted across chunks by
-    `counter`, the steps since the last one).  Returns the updated counter.
-    """
-    n_bodies = g.shape[0]
-    n = g.shape[1]
-    c_end = counter
-    ax = np.empty(BLOCK)
-    ay = np.empty(BLOCK)
-    az = np.empty(BLOCK)
-    u = np.empty(BLOCK)
-    cm = np.empty(BLOCK)
-    for b in range(n_bodies):
-        gb = g[b]
-        w = q[b, 0]
-        x = q[b, 1]
-        y = q[b, 2]
-        z = q[b, 3]
-        c = counter
-        for lo in range(0, n, BLOCK):
-            hi = min(lo + BLOCK, n)
-            _half_angles(gb, lo, hi, h, hstep, scale, ax, ay, az, u)
-            _steps_minus_one(kind, hi - lo, ax, ay, az, u, cm)
-            for i in range(hi - lo):
-                k = lo + i
-                if kind == KIND_EXACT and u[i] >= TAYLOR_LIMIT:  # a large step: sin and cos
-                    f = h[k * hstep] * scale
-                    dw, dx, dy, dz = exp_half_minus_one(gb[k, 0] * f, gb[k, 1] * f, gb[k, 2] * f)
-                else:
-                    dw, dx, dy, dz = cm[i], ax[i], ay[i], az[i]
-                w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
-                c += 1
-                if norm_mode != NORM_NONE and c >= norm_every:
-                    w, x, y, z = renormalize(norm_mode, w, x, y, z)
-                    c = 0
-                out[b, k, 0] = w
-                out[b, k, 1] = x
-                out[b, k, 2] = y
-                out[b, k, 3] = z
-        q[b, 0] = w
-        q[b, 1] = x
-        q[b, 2] = y
-        q[b, 3] = z
-        c_end = c
-    return c_end
-
-
-@nb.njit(cache=True, error_model="numpy")
-def _local_prefix(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, chain_norm):
-    """out[k] = (w,x,y,z) ⊗ m(φ_lo) ⊗ ... ⊗ m(φ_k) for k in [lo, hi); returns the last product.
-
-    With chain_norm the running product is rescaled to unit norm every 16 steps (a scaling never changes the
-    direction; it keeps first-order products, whose norm grows as Π√(1 + |φ|²/4), from overflowing on long
-    blocks).  Norm-preserving steps need no rescaling inside a block: their norm drifts by rounding only.
+    `counter` is the number of steps since the last renormalisation; returns the last attitude and the counter.
+    Per block of samples: half angles into columns, the step quaternions in a vectorised pass, then the chain
+    q + q ⊗ (m - 1), which recomputes the rare large exact steps with sin and cos.
     """
     ax = np.empty(BLOCK)
     ay = np.empty(BLOCK)
     az = np.empty(BLOCK)
     u = np.empty(BLOCK)
     cm = np.empty(BLOCK)
-    j = 0
+    c = counter
     for start in range(lo, hi, BLOCK):
         stop = min(start + BLOCK, hi)
         _half_angles(g, start, stop, h, hstep, scale, ax, ay, az, u)
@@ -283,15 +233,48 @@ def _local_prefix(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, chain_norm)
             else:
                 dw, dx, dy, dz = cm[i], ax[i], ay[i], az[i]
             w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
-            j += 1
-            if chain_norm and j == 16:
-                w, x, y, z = renormalize(NORM_EXACT, w, x, y, z)
-                j = 0
+            c += 1
+            if norm_mode != NORM_NONE and c >= norm_every:
+                w, x, y, z = renormalize(norm_mode, w, x, y, z)
+                c = 0
             out[k, 0] = w
             out[k, 1] = x
             out[k, 2] = y
             out[k, 3] = z
-    return w, x, y, z
+    return w, x, y, z, c
+
+
+@nb.njit(cache=True, error_model="numpy")
+def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out):
+    """q[b] ← q[b] ⊗ m(φ_k) for k in the chunk, writing each new attitude to out[b, k].
+
+    Normalisation follows the user's schedule literally: every `norm_every` steps (counted across chunks by
+    `counter`, the steps since the last one).  Returns the updated counter.
+    """
+    c_end = counter
+    for b in range(g.shape[0]):
+        w, x, y, z, c_end = _chain(
+            g[b],
+            h,
+            hstep,
+            scale,
+            kind,
+            0,
+            g.shape[1],
+            q[b, 0],
+            q[b, 1],
+            q[b, 2],
+            q[b, 3],
+            out[b],
+            norm_mode,
+            norm_every,
+            counter,
+        )
+        q[b, 0] = w
+        q[b, 1] = x
+        q[b, 2] = y
+        q[b, 3] = z
+    return c_end
 
 
 @nb.njit(cache=True, parallel=True, error_model="numpy")
@@ -310,9 +293,12 @@ def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
     so their products are rescaled every 16 steps and the outputs divided by their norm.
     """
     n = g.shape[0]
+    # Norm-preserving steps keep a block's products within rounding of unit norm (no rescaling needed inside
+    # it, and the series finishes the outputs); first/second-order ones grow the norm by |φ|²/8 a step: rescale
+    # the running product every 16 steps so long blocks cannot overflow (scaling never changes the direction).
     preserving = kind == KIND_EXACT or kind == KIND_CAYLEY
     fix_mode = NORM_SERIES if preserving else NORM_EXACT
-    chain_norm = unit and not preserving
+    chain_norm = NORM_EXACT if unit and not preserving else NORM_NONE
     start_att = np.empty((n_threads + 1, 4))  # attitude at the start of each block (row 0 unused)
     bounds = np.empty(n_threads + 1, dtype=np.int64)
     w = q[0]
@@ -328,12 +314,12 @@ def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
         # phase 1: local prefix products; block 0 from the incoming attitude, the others from the identity
         for blk in nb.prange(n_blocks):
             if blk == 0:
-                tw, tx, ty, tz = _local_prefix(
-                    g, h, hstep, scale, kind, bounds[0], bounds[1], w, x, y, z, out, chain_norm
+                tw, tx, ty, tz, _ = _chain(
+                    g, h, hstep, scale, kind, bounds[0], bounds[1], w, x, y, z, out, chain_norm, 16, 0
                 )
             else:
-                tw, tx, ty, tz = _local_prefix(
-                    g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, chain_norm
+                tw, tx, ty, tz, _ = _chain(
+                    g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, chain_norm, 16, 0
                 )
             start_att[blk + 1, 0] = tw
             start_att[blk + 1, 1] = tx

@@ -1,0 +1,1 @@
+"""Motion and IMU simulation with exact truth (filled in by the modules of this package)."""

@@ -15,8 +15,8 @@ $(BIN)/python:
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 # One stamp per extra set, so `make test` after `make demo` installs only what is missing.
-$(VENV)/.stamp-cli: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[cli]'
+$(VENV)/.stamp-demo: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[cli,plot]'
 	@touch $@
 
 $(VENV)/.stamp-test: pyproject.toml | $(BIN)/python
@@ -27,7 +27,7 @@ $(VENV)/.stamp-bench: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[bench]'
 	@touch $@
 
-demo: $(VENV)/.stamp-cli
+demo: $(VENV)/.stamp-demo
 	$(BIN)/strapdown demo
 
 test: $(VENV)/.stamp-test

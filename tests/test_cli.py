@@ -11,10 +11,17 @@ def run(*args):
     return subprocess.run([sys.executable, "-m", "strapdown.cli", *args], capture_output=True, text=True, timeout=120)
 
 
-def test_demo_prints_gajda_roll_every_45_degrees():
-    res = run("demo")
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    out = tmp_path_factory.mktemp("demo")
+    res = run("demo", "--out", str(out))
     assert res.returncode == 0, res.stderr
-    rows = [line.split() for line in res.stdout.splitlines() if line[:6].strip().replace(".", "").isdigit()]
+    return res.stdout, out
+
+
+def test_demo_prints_gajda_roll_every_45_degrees(demo):
+    stdout, _ = demo
+    rows = [line.split() for line in stdout.splitlines() if line[:6].strip().replace(".", "").isdigit()]
     assert len(rows) == 9
     table = np.array([[float(x) for x in row] for row in rows])
     t, q, ypr, err = table[:, 0], table[:, 1:5], table[:, 5:8], table[:, 9]
@@ -28,10 +35,72 @@ def test_demo_prints_gajda_roll_every_45_degrees():
     assert err.max() < 1e-12
 
 
-def test_demo_rejects_bad_rate():
-    res = run("demo", "--roll-rate", "-5")
+def test_demo_compares_every_method_and_writes_its_files(demo):
+    stdout, out = demo
+    from strapdown import METHODS
+
+    assert stdout.count("Gajda 3c") == 2
+    for method in METHODS:
+        assert f"\n{method} " in stdout
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [
+        "aerobatic_show.csv",
+        "aerobatic_show_angles.png",
+        "aerobatic_show_errors.png",
+        "hammerhead_loop_angles.png",
+        "hammerhead_loop_errors.png",
+    ]
+    table = np.loadtxt(out / "aerobatic_show.csv", delimiter=",", skiprows=1)
+    assert table.shape == (15201, 16)
+    # the CSV's error column is the angle between its true and integrated quaternions
+    from strapdown import angle_between
+
+    np.testing.assert_allclose(np.radians(table[:, 15]), angle_between(table[:, 1:5], table[:, 8:12]), atol=1e-8)
+
+
+def _table_rows(stdout):
+    return {line.split()[0]: line.split() for line in stdout.splitlines() if line and line.split()[0] in _methods()}
+
+
+def _methods():
+    from strapdown import METHODS
+
+    return METHODS
+
+
+def test_compare_command(tmp_path):
+    res = run(
+        "compare",
+        "--scenario",
+        "hammerhead-loop",
+        "--rate",
+        "50",
+        "--methods",
+        "exact,euler-angles",
+        "--out",
+        str(tmp_path),
+    )
+    assert res.returncode == 0, res.stderr
+    rows = _table_rows(res.stdout)
+    assert set(rows) == {"exact", "euler-angles"}
+    assert float(rows["exact"][2]) < 1e-10  # max error, degrees
+    assert rows["exact"][4] == "-"  # no singular step
+    assert int(rows["euler-angles"][4]) > 0  # singular steps
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hammerhead_loop_angles.png", "hammerhead_loop_errors.png"]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--methods", "exact,rk5"], "unknown rk5"),
+        (["--rate", "-3"], "--rate"),
+        (["--scenario", "moon-landing"], "moon-landing"),
+    ],
+)
+def test_compare_rejects_bad_options(args, message):
+    res = run("compare", *args)
     assert res.returncode != 0
-    assert "--roll-rate" in res.stderr
+    assert message in res.stderr
 
 
 def test_version_and_help():

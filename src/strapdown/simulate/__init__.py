@@ -1,1 +1,55 @@
-"""Motion and IMU simulation with exact truth (filled in by the modules of this package)."""
+"""Motion and IMU simulation with exact truth.
+
+* :mod:`~strapdown.simulate.trajectories`: constant rotation, coning, random smooth motion, rocking platform;
+* :mod:`~strapdown.simulate.aerobatics`: aerobatic flights chained from figures;
+* :mod:`~strapdown.simulate.imu`: datasheet-style sensor error models;
+* :mod:`~strapdown.simulate.sampling`: sampling a trajectory into IMU readings.
+
+Internally the simulator uses NED reference axes and FRD body axes; :func:`sample` re-expresses its output.
+"""
+
+from .aerobatics import (
+    Flight,
+    Segment,
+    aerobatic_show,
+    aileron_roll,
+    barrel_roll,
+    hammerhead,
+    hammerhead_loop,
+    immelmann,
+    level,
+    loop,
+    spin,
+    split_s,
+)
+from .imu import ClockModel, ImuModel, TriadModel
+from .sampling import ImuData, MagneticDisturbance, MagneticField, sample
+from .trajectories import GRAVITY, Coning, ConstantRotation, RandomMotion, RockingPlatform, Trajectory
+
+__all__ = [
+    "GRAVITY",
+    "ClockModel",
+    "Coning",
+    "ConstantRotation",
+    "Flight",
+    "ImuData",
+    "ImuModel",
+    "MagneticDisturbance",
+    "MagneticField",
+    "RandomMotion",
+    "RockingPlatform",
+    "Segment",
+    "Trajectory",
+    "TriadModel",
+    "aerobatic_show",
+    "aileron_roll",
+    "barrel_roll",
+    "hammerhead",
+    "hammerhead_loop",
+    "immelmann",
+    "level",
+    "loop",
+    "sample",
+    "spin",
+    "split_s",
+]

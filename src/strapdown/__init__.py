@@ -9,11 +9,17 @@ Conventions, stated once and obeyed everywhere:
 * angles are radians unless ``degrees=True``; every function broadcasts over leading axes and keeps float32.
 
 The quaternion algebra lives in :mod:`strapdown.quaternion`; the conversions between attitude representations
-are top-level names, in symmetric ``from_*`` / ``as_*`` pairs.  Importing the package compiles nothing: the
-numba kernels are compiled (and cached on disk) the first time a function needs them.
+are top-level names, in symmetric ``from_*`` / ``as_*`` pairs.  Subpackages and modules with one job each:
+:mod:`strapdown.wahba` (attitude from vector observations), :mod:`strapdown.average` (means and distances),
+:mod:`strapdown.decompose` (swing-twist, shortest arc, control error), :mod:`strapdown.interpolate` (slerp and
+squad over time), :mod:`strapdown.fusion` (gyro/accelerometer/magnetometer filters), :mod:`strapdown.simulate`,
+:mod:`strapdown.metrics`, :mod:`strapdown.broad` and :mod:`strapdown.evaluate` (the BROAD benchmark).
+
+Importing the package compiles nothing: the numba kernels are compiled (and cached on disk) the first time a
+function needs them.
 """
 
-from . import quaternion
+from . import average, decompose, interpolate, quaternion, wahba
 from .cayley_klein import as_cayley_klein, from_cayley_klein
 from .compressed import as_compressed, from_compressed
 from .euler import as_euler, from_euler
@@ -39,8 +45,10 @@ __all__ = [
     "as_gibbs",
     "as_matrix",
     "as_rotvec",
+    "average",
     "canonical",
     "change_frame",
+    "decompose",
     "frame_matrix",
     "frame_quaternion",
     "from_axis_angle",
@@ -52,7 +60,9 @@ __all__ = [
     "from_rotvec",
     "from_scipy",
     "integrate",
+    "interpolate",
     "multiply",
     "quaternion",
     "to_scipy",
+    "wahba",
 ]

@@ -40,6 +40,8 @@ lint: $(VENV)/.stamp-test
 bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_representations.py
 	$(BIN)/python benchmarks/bench_integrate.py
+	$(BIN)/python benchmarks/bench_wahba.py
+	$(BIN)/python benchmarks/bench_estimators.py
 
 clean:
 	rm -rf $(VENV) build dist .pytest_cache .ruff_cache .hypothesis

@@ -1,9 +1,11 @@
-"""Allan deviation against direct implementations written from the definition (cluster means, no running sums)."""
+"""Allan deviation against direct implementations written from the definition (cluster means, no running sums);
+attitude errors against closed forms and scipy."""
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
-from strapdown.metrics import allan_deviation
+from strapdown.metrics import allan_deviation, attitude_errors, remove_heading_offset, rmse, rmse_errors
 
 
 def naive_non_overlapping(x, m):
@@ -122,3 +124,64 @@ def test_errors():
         allan_deviation(x, 1.0, taus=[np.nan])
     with pytest.raises(ValueError, match=r"taus must be a scalar or have shape \(T,\)"):
         allan_deviation(x, 1.0, taus=[[1.0]])
+
+
+# --- attitude errors on the BROAD protocol ----------------------------------------------------------------------
+
+
+def _sp(q):
+    """scalar-first -> scipy's scalar-last."""
+    return Rotation.from_quat(np.asarray(q)[..., [1, 2, 3, 0]])
+
+
+def test_errors_of_a_heading_then_tilt_error_are_closed_form(rng):
+    # q_err = q_z(ψ) ⊗ (rotation θ about a horizontal axis): heading ψ, inclination θ, total 2 acos(cos ψ/2 cos θ/2)
+    n = 500
+    psi = rng.uniform(0, np.pi, n)
+    theta = rng.uniform(0, np.pi, n)
+    az = rng.uniform(0, 2 * np.pi, n)
+    horizontal = np.column_stack([np.cos(az), np.sin(az), np.zeros(n)])
+    err = _sp(np.column_stack([np.cos(psi / 2), 0 * psi, 0 * psi, np.sin(psi / 2)])) * Rotation.from_rotvec(
+        horizontal * theta[:, None]
+    )
+    ref = Rotation.random(n, random_state=1)
+    est = (err * ref).as_quat()[:, [3, 0, 1, 2]]
+    e = attitude_errors(est, ref.as_quat()[:, [3, 0, 1, 2]])
+    np.testing.assert_allclose(e["heading"], psi, atol=1e-7)
+    np.testing.assert_allclose(e["inclination"], theta, atol=1e-7)
+    np.testing.assert_allclose(e["total"], 2 * np.arccos(np.cos(psi / 2) * np.cos(theta / 2)), atol=1e-7)
+    # the total error is the angle of est ⊗ ref⁻¹ (scipy), whatever the signs of the inputs
+    signs = rng.choice([-1.0, 1.0], (n, 1))
+    e2 = attitude_errors(est * signs, ref.as_quat()[:, [3, 0, 1, 2]])
+    np.testing.assert_allclose(e2["total"], (err).magnitude(), atol=1e-7)
+
+
+def test_nan_truth_is_ignored_and_the_mask_selects():
+    est = np.tile([np.cos(0.01), np.sin(0.01), 0, 0], (6, 1))  # 0.02 rad of roll everywhere
+    ref = np.tile([1.0, 0, 0, 0], (6, 1))
+    ref[1] = np.nan
+    est[5] = [np.cos(0.1), np.sin(0.1), 0, 0]  # 0.2 rad, masked out below
+    r = rmse_errors(est, ref, mask=[True, True, True, True, True, False], degrees=False)
+    assert r["inclination"] == pytest.approx(0.02, rel=1e-9)
+    assert r["heading"] == pytest.approx(0.0, abs=1e-12)
+    assert rmse([np.nan, np.nan]) != rmse([np.nan, np.nan])  # NaN when nothing is finite
+    with pytest.raises(ValueError, match="mask"):
+        rmse(np.ones(3), mask=[True, False])
+    with pytest.raises(ValueError, match="q_est and q_ref"):
+        rmse_errors(est, ref[:3])
+
+
+def test_heading_offset_removal(rng):
+    # a constant heading offset plus a tilt error: removal leaves the tilt, and the inclination never changes
+    n = 400
+    ref = Rotation.random(n, random_state=2)
+    tilt = Rotation.from_rotvec(np.column_stack([0.03 * np.ones(n), np.zeros(n), np.zeros(n)]))
+    est = (Rotation.from_euler("z", 2.5) * tilt * ref).as_quat()[:, [3, 0, 1, 2]]
+    refq = ref.as_quat()[:, [3, 0, 1, 2]]
+    fixed = remove_heading_offset(est, refq)
+    e_before, e_after = attitude_errors(est, refq), attitude_errors(fixed, refq)
+    np.testing.assert_allclose(e_after["inclination"], e_before["inclination"], atol=1e-12)
+    np.testing.assert_allclose(e_after["heading"], 0, atol=1e-9)
+    np.testing.assert_allclose(e_after["total"], 0.03, atol=1e-9)
+    r6 = rmse_errors(est, refq, heading_offset=True)
+    assert r6["total"] == pytest.approx(np.degrees(0.03), rel=1e-7)

@@ -25,6 +25,15 @@ def qmul(aw, ax, ay, az, bw, bx, by, bz):
 def multiply_rows(p, q, out):
     """out[n] = p[n] ⊗ q[n]; p or q may have one row, broadcast against the other."""
     n_rows = out.shape[0]
+    if p.shape[0] == 1 and n_rows > 1:  # one fixed rotation (a frame change): constants in registers
+        pw, px, py, pz = p[0, 0], p[0, 1], p[0, 2], p[0, 3]
+        for n in range(n_rows):
+            w, x, y, z = qmul(pw, px, py, pz, q[n, 0], q[n, 1], q[n, 2], q[n, 3])
+            out[n, 0] = w
+            out[n, 1] = x
+            out[n, 2] = y
+            out[n, 3] = z
+        return
     p_step = 1 if p.shape[0] > 1 else 0
     q_step = 1 if q.shape[0] > 1 else 0
     for n in range(n_rows):

@@ -14,8 +14,6 @@ along ±(1, 1, 1)/√3, so the rotated flight never passes the vertical and the 
 
 from __future__ import annotations
 
-import os
-import tempfile
 import time
 import warnings
 from dataclasses import dataclass
@@ -23,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._files import atomic_path
 from .euler import as_euler
 from .integrate import METHODS
 from .quaternion import angle_between, multiply
@@ -251,15 +250,9 @@ def _deg(x: float) -> str:
 
 
 def _save(fig, path: Path) -> Path:
-    """Save atomically: a temporary file in the same directory, then rename."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".png.tmp")
-    os.close(fd)
-    try:
+    """Save atomically (no partly written PNG is ever visible)."""
+    with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

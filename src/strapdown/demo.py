@@ -8,13 +8,12 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ._files import atomic_path
 from .euler import as_euler, from_euler
 from .quaternion import angle_between, multiply, norm
 from .rotvec import from_rotvec
@@ -166,15 +165,8 @@ def write_csv(path, header: list[str], columns: np.ndarray) -> Path:
     'a,b'
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".csv.tmp")
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         np.savetxt(tmp, columns, delimiter=",", header=",".join(header), comments="", fmt="%.10g")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

@@ -1,0 +1,333 @@
+"""What every fusion filter shares: input checks, timing, frames, initialisation, state (private).
+
+Timing: sample k is applied over the interval that ends at it; ``dt`` gives its length (a scalar, or one per
+sample), or ``t`` gives the sample times, and then dt_k = t_k - t_k-1.  A given ``q0`` is the attitude at the
+start of the first interval.  Without one, the attitude is initialised from the first sample, i.e. at its end:
+that sample's gyro reading is then not integrated (as with ``t``, where the first sample has no interval).
+Outputs have one attitude per sample: the estimate after that sample.
+
+Frames: each filter computes in its own reference frame (Madgwick's is NWU, the others ENU: x east, y north,
+z up) and reports in ``frame``; the body axes are the sensor's own.  The accelerometer reads specific force,
++g along body up at rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, replace
+from functools import cached_property
+
+import numpy as np
+
+from .. import _validate as _v
+from ..frames import frame_quaternion
+from ..quaternion import multiply
+
+__all__ = ["FLAG_ACC_REJECTED", "FLAG_INVERTED", "FLAG_MAG_REJECTED", "FLAG_REST", "Estimate", "Estimator"]
+
+FLAG_REST = 1  # rest detected: the gyro bias is being learnt from the raw gyro
+FLAG_ACC_REJECTED = 2  # the accelerometer was left out (its magnitude too far from g)
+FLAG_MAG_REJECTED = 4  # the magnetometer was left out (disturbed field)
+FLAG_INVERTED = 8  # within 1e-6 of upside down: the tilt quaternion chart is singular there (tilt.py)
+
+GRAVITY = 9.80665
+
+
+@dataclass
+class Estimate:
+    """The output of a fusion filter for N samples.
+
+    Attributes
+    ----------
+    q : numpy.ndarray, shape (N, 4)
+        Attitude after each sample, sensor to ``frame`` (scalar first).
+    frame : str
+        Reference frame of ``q``.
+    bias : numpy.ndarray, shape (N, 3), or None
+        Gyro bias estimate (rad/s, sensor axes), for filters that estimate one.
+    flags : numpy.ndarray of uint8, shape (N,), or None
+        Bit mask per sample: ``FLAG_REST``, ``FLAG_ACC_REJECTED``, ``FLAG_MAG_REJECTED``, ``FLAG_INVERTED``.
+    extra : dict
+        Filter-specific outputs.
+
+    The tilt quaternion, pitch and roll of ``q`` are computed when first asked for (properties below), so a
+    filter's throughput is not spent on outputs nobody reads.
+    """
+
+    q: np.ndarray
+    frame: str
+    bias: np.ndarray | None = None
+    flags: np.ndarray | None = None
+    extra: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return self.q.shape[0]
+
+    @cached_property
+    def tilt(self) -> np.ndarray:
+        """Tilt quaternions e of ``q = q_z(ψ) ⊗ e`` (the Rowe patent's form, e3 = 0), shape (N, 4).
+
+        See :func:`strapdown.fusion.tilt_from_quaternion`; upside down gives the half turn (and ``FLAG_INVERTED``
+        in the flags of :class:`~strapdown.fusion.TiltEstimator`).
+        """
+        from .tilt import tilt_from_quaternion
+
+        return tilt_from_quaternion(self.q, check=False)[0]
+
+    @cached_property
+    def _ypr(self) -> np.ndarray:
+        from ..euler import as_euler
+
+        return as_euler(self.q, "ZYX") if len(self) else np.zeros((0, 3))
+
+    @property
+    def pitch(self) -> np.ndarray:
+        """Pitch θ of ``q`` in the yaw-pitch-roll (ZYX) convention of ``frame``, radians, shape (N,)."""
+        return self._ypr[:, 1]
+
+    @property
+    def roll(self) -> np.ndarray:
+        """Roll φ of ``q`` in the yaw-pitch-roll (ZYX) convention of ``frame``, radians, shape (N,)."""
+        return self._ypr[:, 2]
+
+
+def params_replace(params, **changes):
+    """A copy of a frozen parameter dataclass with some fields changed (validated again)."""
+    return replace(params, **changes)
+
+
+def describe(params) -> str:
+    """One line per field: name = value."""
+    return "\n".join(f"{f.name} = {getattr(params, f.name)!r}" for f in fields(params))
+
+
+def _triads(gyr, acc, mag, need_mag: bool):
+    g = _v.vectors(gyr, "gyr", dtype=np.float64)
+    a = _v.vectors(acc, "acc", dtype=np.float64)
+    if g.ndim != 2 or a.ndim != 2:
+        raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
+    if a.shape != g.shape:
+        raise ValueError(f"acc has {a.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
+    m = None
+    if mag is not None:
+        m = _v.vectors(mag, "mag", dtype=np.float64)
+        if m.shape != g.shape:
+            raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
+        m = np.ascontiguousarray(m)
+    elif need_mag:
+        raise ValueError("this filter was created for magnetometer data (9D): give mag, or create it without")
+    return np.ascontiguousarray(g), np.ascontiguousarray(a), m
+
+
+class Estimator:
+    """Base of the streaming fusion filters: subclasses set ``natural_frame`` and implement the kernel calls.
+
+    Parameters
+    ----------
+    params : dataclass
+        The filter's parameter object.
+    q0 : array_like, shape (4,), optional
+        Initial attitude (sensor to ``frame``); by default it comes from the first sample(s).
+    frame : str
+        Reference frame of inputs ``q0`` and of the outputs: any z-up or z-down frame of :mod:`strapdown.frames`.
+    """
+
+    natural_frame = "ENU"
+    estimates_bias = False
+
+    def __init__(self, params, *, q0=None, frame: str = "ENU"):
+        self.params = params
+        self.frame = frame
+        self._to_out = frame_quaternion(self.natural_frame, frame)  # validates the frame name
+        self._to_in = self._to_out * np.array([1.0, -1.0, -1.0, -1.0])
+        self._q0 = None if q0 is None else _v.quaternions(q0, "q0", dtype=np.float64).reshape(4)
+        self._state: dict | None = None
+        self._t_last: float | None = None
+        self._use_mag: bool | None = None
+
+    # ----------------------------------------------------------------------------------------------------
+    @property
+    def state(self) -> dict | None:
+        """A copy of the internal state (arrays in the filter's own frame); assign one back to restore it."""
+        if self._state is None:
+            return None
+        out = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self._state.items()}
+        out["_t_last"] = self._t_last
+        out["_use_mag"] = self._use_mag
+        return out
+
+    @state.setter
+    def state(self, value: dict) -> None:
+        if not isinstance(value, dict) or "q" not in value:
+            raise ValueError("state must be a dict taken from the .state of a filter of the same kind")
+        value = dict(value)
+        self._t_last = value.pop("_t_last", None)
+        self._use_mag = value.pop("_use_mag", None)
+        self._state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in value.items()}
+
+    @property
+    def attitude(self) -> np.ndarray | None:
+        """The current attitude estimate, sensor to ``frame``."""
+        if self._state is None:
+            return None
+        return multiply(self._to_out, self._state["q"])
+
+    def reset(self) -> None:
+        """Forget everything; the next update initialises again."""
+        self._state = None
+        self._t_last = None
+        self._use_mag = None
+
+    # ----------------------------------------------------------------------------------------------------
+    def _dts(self, n: int, dt, t) -> np.ndarray:
+        if (dt is None) == (t is None):
+            raise ValueError("give exactly one of dt (seconds per sample) and t (sample times in seconds)")
+        if dt is not None:
+            d = _v.finite(dt, "dt", dtype=np.float64)
+            if d.ndim == 0:
+                if not d > 0:
+                    raise ValueError(f"dt must be positive, got {float(d)!r}")
+                return np.full(n, float(d))
+            if d.shape != (n,):
+                raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {d.shape}")
+            if not (d > 0).all():
+                raise ValueError(f"dt{_v.first_index(~(d > 0))} is not positive")
+            return np.ascontiguousarray(d)
+        tt = _v.finite(t, "t", dtype=np.float64)
+        if tt.shape != (n,):
+            raise ValueError(f"t must have one time per sample ({n}), got shape {tt.shape}")
+        prev = tt[0] if self._t_last is None else self._t_last
+        d = np.diff(np.concatenate([[prev], tt]))
+        bad = ~(d > 0)
+        if self._t_last is None:
+            bad[0] = False
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            before = prev if i == 0 else tt[i - 1]
+            raise ValueError(f"t is not strictly increasing at sample {i}: {before!r} -> {tt[i]!r}")
+        if n:
+            self._t_last = float(tt[-1])
+        return d
+
+    def update(self, gyr, acc, mag=None, *, dt=None, t=None, **inputs) -> Estimate:
+        """Process a chunk of samples; any chunking gives the same result.
+
+        Parameters
+        ----------
+        gyr : array_like, shape (N, 3)
+            Angular rate, rad/s, sensor axes.
+        acc : array_like, shape (N, 3)
+            Specific force, m/s² (+g along body up at rest).
+        mag : array_like, shape (N, 3), optional
+            Magnetic field, any unit (only its direction is used); 9D when given.  A filter started with
+            (or without) magnetometer data must be fed the same way.
+        dt : float or array_like of shape (N,), optional
+            Seconds per sample.
+        t : array_like, shape (N,), optional
+            Sample times, seconds, strictly increasing.
+        **inputs
+            Filter-specific inputs (see the subclass).
+
+        Returns
+        -------
+        Estimate
+            One attitude per sample, and the filter's extra outputs.
+        """
+        g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag))
+        if self._use_mag is not None and m is not None and not self._use_mag:
+            raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
+        n = g.shape[0]
+        dts = self._dts(n, dt, t)
+        extra_in = self._prepare_inputs(n, **inputs)
+        if self._state is None:
+            if n == 0:
+                return self._empty()
+            self._use_mag = m is not None
+            if self._q0 is None:
+                q_init = self._initial(a, m, extra_in)
+                # the attitude from the first sample is the one at its end: its gyro reading has nothing left to do
+                dts = dts.copy()
+                dts[0] = 0.0
+            else:
+                q_init = multiply(self._to_in, self._q0)
+            self._state = self._new_state(q_init / np.linalg.norm(q_init), a, m, dts, extra_in)
+        out = self._run(g, a, m, dts, extra_in)
+        if out.q.size and self.frame != self.natural_frame:
+            out.q = multiply(self._to_out, out.q, check=False)
+        out.frame = self.frame
+        return out
+
+    def _empty(self) -> Estimate:
+        return Estimate(q=np.zeros((0, 4)), frame=self.frame)
+
+    # subclass hooks ------------------------------------------------------------------------------------
+    def _prepare_inputs(self, n: int, **inputs) -> dict:
+        if inputs:
+            raise ValueError(f"unexpected inputs: {', '.join(inputs)}")
+        return {}
+
+    def _initial(self, acc, mag, extra_in) -> np.ndarray:
+        """Initial attitude in the natural frame from the first sample: tilt from acc, heading from mag."""
+        return initial_attitude(acc[0], None if mag is None else mag[0], self.natural_frame)
+
+    def _new_state(self, q, acc, mag, dts, extra_in) -> dict:
+        raise NotImplementedError
+
+    def _run(self, gyr, acc, mag, dts, extra_in) -> Estimate:
+        raise NotImplementedError
+
+
+def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
+    """Attitude (sensor to ``frame``) from one accelerometer sample at rest and optionally one magnetometer sample.
+
+    Without a magnetometer the heading is chosen so that the attitude is a pure tilt (no rotation about the
+    vertical: the tilt quaternion of the Rowe patent).  With one, north is the horizontal part of the field
+    (magnetic north; declination is not applied).
+
+    Parameters
+    ----------
+    acc : array_like, shape (3,)
+        Specific force, any unit (+g along body up at rest).
+    mag : array_like, shape (3,), optional
+        Magnetic field, any unit.
+    frame : str
+        Reference frame of the result.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4,)
+        Unit quaternion.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.fusion import initial_attitude
+    >>> initial_attitude([0.0, 0.0, 9.81]).round(12)          # level: identity
+    array([1., 0., 0., 0.])
+    >>> initial_attitude([0.0, 0.0, 9.81], [0.0, 20.0, -40.0], "ENU").round(12)   # y axis points north
+    array([1., 0., 0., 0.])
+    """
+    from ..matrix import from_matrix
+
+    a = _v.vectors(acc, "acc", dtype=np.float64).reshape(3)
+    na = np.linalg.norm(a)
+    if not na > 0:
+        raise ValueError("acc is zero: no direction of gravity to start from")
+    up = a / na
+    to_frame = frame_quaternion("ENU", frame)
+    if mag is None:
+        # shortest arc taking the sensor's up to z (math.md §5.5): a tilt, e3 = 0
+        c = np.sqrt(max(0.0, 0.5 * (1 + up[2])))
+        if c < 1e-9:  # upside down: a half turn about x
+            q = np.array([0.0, 1.0, 0.0, 0.0])
+        else:
+            q = np.array([c, up[1] / (2 * c), -up[0] / (2 * c), 0.0])
+        return multiply(to_frame, q)
+    m = _v.vectors(mag, "mag", dtype=np.float64).reshape(3)
+    east = np.cross(m, up)
+    ne = np.linalg.norm(east)
+    if not ne > 1e-9 * np.linalg.norm(m):
+        raise ValueError("mag is parallel to gravity: no horizontal field to take north from")
+    east /= ne
+    north = np.cross(up, east)
+    q_enu = from_matrix(np.array([east, north, up]))  # rows: E, N, U in sensor axes, so sensor -> ENU
+    return multiply(to_frame, q_enu)

@@ -1,0 +1,53 @@
+"""Numba kernel of :mod:`strapdown.fusion.complementary` (private)."""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+
+from ._kernels_numba import left_step, right_step, rotate, tilt_to_vertical
+
+
+@nb.njit(cache=True, error_model="numpy")
+def run(gyr, acc, mag, use_mag, dts, tau_acc, tau_mag, gravity, acc_gate, q, out, flags):
+    """Quaternion complementary filter in ENU; q updated in place.
+
+    Gyro step q ← q ⊗ exp(ω dt/2); then, in the reference frame, a fraction 1 - exp(-dt/τ_acc) of the tilt
+    that turns the measured up R â onto z (an axis in the horizontal plane: the heading is untouched), and in
+    9D a fraction 1 - exp(-dt/τ_mag) of the heading that turns the horizontal field onto north (+y), about z.
+    """
+    w = q[0]
+    x = q[1]
+    y = q[2]
+    z = q[3]
+    for k in range(gyr.shape[0]):
+        dt = dts[k]
+        w, x, y, z = right_step(w, x, y, z, gyr[k, 0] * dt, gyr[k, 1] * dt, gyr[k, 2] * dt)
+        flag = 0
+        ax = acc[k, 0]
+        ay = acc[k, 1]
+        az = acc[k, 2]
+        an = math.sqrt(ax * ax + ay * ay + az * az)
+        if an > 0.0 and abs(an - gravity) <= acc_gate:
+            ux, uy, uz = rotate(w, x, y, z, ax / an, ay / an, az / an)
+            cx, cy = tilt_to_vertical(ux, uy, uz)
+            g = 1.0 - math.exp(-dt / tau_acc) if tau_acc > 0.0 else 1.0
+            w, x, y, z = left_step(w, x, y, z, g * cx, g * cy, 0.0)
+        else:
+            flag |= 2
+        if use_mag:
+            mx, my, _ = rotate(w, x, y, z, mag[k, 0], mag[k, 1], mag[k, 2])
+            if mx * mx + my * my > 0.0:
+                heading_error = math.atan2(mx, my)  # angle of the horizontal field east of north
+                g = 1.0 - math.exp(-dt / tau_mag) if tau_mag > 0.0 else 1.0
+                w, x, y, z = left_step(w, x, y, z, 0.0, 0.0, g * heading_error)
+        out[k, 0] = w
+        out[k, 1] = x
+        out[k, 2] = y
+        out[k, 3] = z
+        flags[k] = flag
+    q[0] = w
+    q[1] = x
+    q[2] = y
+    q[3] = z

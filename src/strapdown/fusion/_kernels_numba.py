@@ -1,0 +1,103 @@
+"""Small scalar helpers shared by the fusion kernels (private)."""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+
+from .._integrate_numba import exp_half_minus_one
+from .._quaternion_numba import qmul
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def rotate(w, x, y, z, vx, vy, vz):
+    """R(q) v for a unit quaternion, expanded: v + 2w (u×v) + 2 u×(u×v)."""
+    tx = 2.0 * (y * vz - z * vy)
+    ty = 2.0 * (z * vx - x * vz)
+    tz = 2.0 * (x * vy - y * vx)
+    return vx + w * tx + (y * tz - z * ty), vy + w * ty + (z * tx - x * tz), vz + w * tz + (x * ty - y * tx)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def rotate_back(w, x, y, z, vx, vy, vz):
+    """R(q)ᵀ v."""
+    return rotate(w, -x, -y, -z, vx, vy, vz)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def right_step(w, x, y, z, px, py, pz):
+    """Right step q ⊗ exp(φ/2), normalised: the exact body-rate update (the integrator's increment form).
+
+    The step keeps |q| = 1 to rounding, so the series normalisation q (3 - |q|²)/2 (nabbla part 9) is exact to
+    rounding and needs no square root; it also pulls any |q| near 1 back quadratically.
+    """
+    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
+    ew, ex, ey, ez = qmul(w, x, y, z, dw, dx, dy, dz)
+    w += ew
+    x += ex
+    y += ey
+    z += ez
+    f = 1.5 - 0.5 * (w * w + x * x + y * y + z * z)
+    return w * f, x * f, y * f, z * f
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def left_step(w, x, y, z, px, py, pz):
+    """exp(φ/2) ⊗ q, normalised: a rotation by φ in the reference frame."""
+    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
+    ew, ex, ey, ez = qmul(dw, dx, dy, dz, w, x, y, z)
+    w += ew
+    x += ex
+    y += ey
+    z += ez
+    inv = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    return w * inv, x * inv, y * inv, z * inv
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _arc_w(vx, vy, vz, s2):
+    """|v| + v_z without cancellation when v points down: s2 / (|v| - v_z) there."""
+    nv = math.sqrt(s2 + vz * vz)
+    return nv + vz if vz >= 0.0 else s2 / (nv - vz)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def unit_rotvec(w, x, y, z):
+    """Rotation vector of a unit quaternion: 2 asin(s)/s · (x, y, z), s = |(x, y, z)|, sign of w folded in.
+
+    For the small steps of a filter (s < 0.05) the series 2 (1 + s²/6 + 3 s⁴/40 + 5 s⁶/112 + 35 s⁸/1152) needs
+    no square root or division (first omitted term < 2e-15 relative); beyond, atan2.
+    """
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    s2 = x * x + y * y + z * z
+    if s2 < 0.0025:
+        k = 2.0 + s2 * (1.0 / 3.0 + s2 * (3.0 / 20.0 + s2 * (5.0 / 56.0 + s2 * (35.0 / 576.0))))
+    else:
+        s = math.sqrt(s2)
+        k = 2.0 * math.atan2(s, w) / s
+    return x * k, y * k, z * k
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def tilt_to_z(vx, vy, vz):
+    """The tilt quaternion (e0, e1, e2; e3 = 0) turning the direction v onto +z (math.md §5.5); down: about x."""
+    s2 = vx * vx + vy * vy
+    if s2 == 0.0:
+        return (1.0, 0.0, 0.0) if vz >= 0.0 else (0.0, 1.0, 0.0)
+    w = _arc_w(vx, vy, vz, s2)
+    inv = 1.0 / math.sqrt(w * w + s2)
+    return w * inv, vy * inv, -vx * inv
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def tilt_to_vertical(vx, vy, vz):
+    """Rotation vector (horizontal) that turns the direction v onto +z: axis v×z, angle atan2(|v×z|, v·z)."""
+    s = math.sqrt(vx * vx + vy * vy)
+    if s == 0.0:
+        if vz >= 0.0:
+            return 0.0, 0.0
+        return math.pi, 0.0  # straight down: half a turn about x
+    angle = math.atan2(s, vz)
+    return vy / s * angle, -vx / s * angle

@@ -1,0 +1,79 @@
+"""Numba kernel of :mod:`strapdown.fusion.mahony` (private)."""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+
+from ._kernels_numba import right_step, rotate, rotate_back
+
+
+@nb.njit(cache=True, error_model="numpy")
+def run(gyr, acc, mag, use_mag, dts, kp, ki, q, b, out, bias_out):
+    """Mahony's explicit complementary filter with integral bias, in ENU; q and b updated in place.
+
+    e = â × v̂ (+ m̂ × ŵ in 9D), with v̂ = Rᵀ z the predicted up and ŵ = Rᵀ(0, |h_xy|, h_z) the predicted field,
+    h = R m̂; b ← b - ki e dt; ω = gyr - b + kp e; q ← q ⊗ exp(ω dt/2) (exact, unlike the original first-order
+    step).  Mahony, Hamel & Pflimlin, IEEE TAC 53(5), 2008.
+    """
+    w = q[0]
+    x = q[1]
+    y = q[2]
+    z = q[3]
+    b0 = b[0]
+    b1 = b[1]
+    b2 = b[2]
+    for k in range(gyr.shape[0]):
+        ex = 0.0
+        ey = 0.0
+        ez = 0.0
+        ax = acc[k, 0]
+        ay = acc[k, 1]
+        az = acc[k, 2]
+        an = math.sqrt(ax * ax + ay * ay + az * az)
+        if an > 0.0:
+            ax /= an
+            ay /= an
+            az /= an
+            vx, vy, vz = rotate_back(w, x, y, z, 0.0, 0.0, 1.0)
+            ex = ay * vz - az * vy
+            ey = az * vx - ax * vz
+            ez = ax * vy - ay * vx
+        if use_mag:
+            mx = mag[k, 0]
+            my = mag[k, 1]
+            mz = mag[k, 2]
+            mn = math.sqrt(mx * mx + my * my + mz * mz)
+            if mn > 0.0:
+                mx /= mn
+                my /= mn
+                mz /= mn
+                hx, hy, hz = rotate(w, x, y, z, mx, my, mz)
+                wx, wy, wz = rotate_back(w, x, y, z, 0.0, math.sqrt(hx * hx + hy * hy), hz)
+                ex += my * wz - mz * wy
+                ey += mz * wx - mx * wz
+                ez += mx * wy - my * wx
+        dt = dts[k]
+        if ki > 0.0:
+            b0 -= ki * ex * dt
+            b1 -= ki * ey * dt
+            b2 -= ki * ez * dt
+        gx = gyr[k, 0] - b0 + kp * ex
+        gy = gyr[k, 1] - b1 + kp * ey
+        gz = gyr[k, 2] - b2 + kp * ez
+        w, x, y, z = right_step(w, x, y, z, gx * dt, gy * dt, gz * dt)
+        out[k, 0] = w
+        out[k, 1] = x
+        out[k, 2] = y
+        out[k, 3] = z
+        bias_out[k, 0] = b0
+        bias_out[k, 1] = b1
+        bias_out[k, 2] = b2
+    q[0] = w
+    q[1] = x
+    q[2] = y
+    q[3] = z
+    b[0] = b0
+    b[1] = b1
+    b[2] = b2

@@ -1,0 +1,124 @@
+"""Mahony's explicit complementary filter with integral gyro-bias estimation (Mahony et al., IEEE TAC 2008).
+
+The error between the measured and predicted directions of gravity (and, in 9D, of the horizontal magnetic
+field), ``e = â × v̂ + m̂ × ŵ``, feeds back proportionally into the rate and integrally into a bias estimate:
+``b ← b - ki e dt``, ``ω = gyr - b + kp e``.  The attitude step is the exact exponential.  Computed in ENU.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._base import Estimate, Estimator
+
+__all__ = ["Mahony", "MahonyParams", "mahony"]
+
+
+@dataclass(frozen=True)
+class MahonyParams:
+    """Parameters of :class:`Mahony`.
+
+    Attributes
+    ----------
+    kp : float
+        Proportional gain, 1/s (rad/s of correction per unit of direction error).  Default 1.0.
+    ki : float
+        Integral gain, 1/s² (bias learning).  Default 0.02; 0 disables bias estimation.  At rest the bias
+        error decays with the slow root of ``s² + kp s + ki``, time constant ≈ ``kp/ki`` (50 s by default).
+    bias0 : tuple of float
+        Initial gyro bias estimate, rad/s.
+    """
+
+    kp: float = 1.0
+    ki: float = 0.02
+    bias0: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("kp", "ki"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be a non-negative gain, got {v!r}")
+        if len(self.bias0) != 3 or not np.isfinite(self.bias0).all():
+            raise ValueError(f"bias0 must be three finite rates in rad/s, got {self.bias0!r}")
+
+
+class Mahony(Estimator):
+    """Streaming Mahony filter with integral bias.
+
+    Parameters
+    ----------
+    params : MahonyParams, optional
+        Gains and initial bias.
+    q0 : array_like, shape (4,), optional
+        Initial attitude (sensor to ``frame``); by default from the first sample.
+    frame : str
+        Reference frame of ``q0`` and of the outputs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.fusion import Mahony
+    >>> bias = np.radians([0.5, -0.3, 0.0])
+    >>> n = 30_000                                 # 300 s: six bias time constants kp/ki = 50 s
+    >>> est = Mahony().update(np.tile(bias, (n, 1)), np.tile([0.0, 0.0, 9.81], (n, 1)), dt=0.01)
+    >>> np.degrees(est.bias[-1]).round(2)          # the horizontal bias is learnt at rest
+    array([ 0.5, -0.3,  0. ])
+    """
+
+    estimates_bias = True
+
+    def __init__(self, params: MahonyParams | None = None, *, q0=None, frame: str = "ENU"):
+        super().__init__(params or MahonyParams(), q0=q0, frame=frame)
+
+    def _new_state(self, q, acc, mag, dts, extra_in):
+        return {"q": q.copy(), "bias": np.array(self.params.bias0, dtype=float)}
+
+    def _run(self, gyr, acc, mag, dts, extra_in):
+        from ._mahony_numba import run
+
+        n = gyr.shape[0]
+        out = np.empty((n, 4))
+        bias = np.empty((n, 3))
+        m = mag if mag is not None else np.zeros((1, 3))
+        p = self.params
+        run(gyr, acc, m, mag is not None, dts, p.kp, p.ki, self._state["q"], self._state["bias"], out, bias)
+        return Estimate(q=out, frame=self.natural_frame, bias=bias)
+
+
+def mahony(
+    gyr, acc, mag=None, *, dt=None, t=None, params: MahonyParams | None = None, q0=None, frame: str = "ENU"
+) -> Estimate:
+    """Run the Mahony filter over whole arrays (the batch form of :class:`Mahony`).
+
+    Parameters
+    ----------
+    gyr, acc : array_like, shape (N, 3)
+        Angular rate (rad/s) and specific force (m/s²).
+    mag : array_like, shape (N, 3), optional
+        Magnetic field; 9D when given.
+    dt : float or array_like, optional
+        Seconds per sample.
+    t : array_like, shape (N,), optional
+        Sample times.
+    params : MahonyParams, optional
+        Gains.
+    q0 : array_like, shape (4,), optional
+        Initial attitude.
+    frame : str
+        Reference frame.
+
+    Returns
+    -------
+    Estimate
+        Attitudes and bias estimates, one per sample.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.fusion import mahony
+    >>> mahony(np.zeros((5, 3)), np.tile([0.0, 0.0, 9.81], (5, 1)), dt=0.01).bias.shape
+    (5, 3)
+    """
+    return Mahony(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t)

@@ -1,0 +1,290 @@
+"""The Rowe patent's tilt quaternion (math.md §5) and the TiltEstimator.
+
+Oracles: scipy rotations for products and vectors, the closed forms of math.md §5.3-5.5, finite differences,
+and simulated motions whose truth is exact.
+"""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from strapdown import as_euler, change_frame
+from strapdown.fusion import (
+    FLAG_ACC_REJECTED,
+    FLAG_INVERTED,
+    FLAG_REST,
+    TiltEstimator,
+    TiltParams,
+    tilt,
+    tilt_from_pitch_roll,
+    tilt_from_quaternion,
+    tilt_from_up,
+    tilt_rates,
+)
+from strapdown.metrics import attitude_errors
+from strapdown.simulate import RockingPlatform, sample
+from strapdown.simulate.imu import ImuModel, TriadModel
+
+G = 9.80665
+
+
+def sp(q):
+    return Rotation.from_quat(np.asarray(q)[..., [1, 2, 3, 0]])
+
+
+def wxyz(r):
+    return r.as_quat()[..., [3, 0, 1, 2]]
+
+
+def body_up(q):
+    """R(q)ᵀ z by scipy."""
+    return sp(q).inv().apply([0.0, 0.0, 1.0])
+
+
+# --- the tilt quaternion ---------------------------------------------------------------------------------------
+
+
+def test_split_recomposes_and_keeps_gravity(rng):
+    q = wxyz(Rotation.random(2000, random_state=3))
+    e, psi, inverted = tilt_from_quaternion(q)
+    assert not inverted.any()
+    assert np.all(e[:, 3] == 0) and np.all(e[:, 0] >= 0)
+    np.testing.assert_allclose(np.linalg.norm(e, axis=1), 1, atol=1e-15)
+    qz = Rotation.from_rotvec(np.column_stack([0 * psi, 0 * psi, psi]))
+    recomposed = wxyz(qz * sp(e))
+    sign = np.sign(np.sum(recomposed * q, axis=1))[:, None]
+    np.testing.assert_allclose(recomposed * sign, q, atol=1e-14)
+    np.testing.assert_allclose(body_up(e), body_up(q), atol=1e-14)  # the tilt sensor sees e alone (§5.3)
+    # the formula of math.md §5.3 for u
+    u = np.column_stack([-2 * e[:, 0] * e[:, 2], 2 * e[:, 0] * e[:, 1], e[:, 0] ** 2 - e[:, 1] ** 2 - e[:, 2] ** 2])
+    np.testing.assert_allclose(u, body_up(q), atol=1e-14)
+    assert np.all((psi > -np.pi) & (psi <= np.pi))
+
+
+def test_upside_down_is_flagged_not_nan():
+    # a half turn about a horizontal axis at 30° azimuth, after any heading: the chart's singular set
+    axis = np.array([np.cos(0.5), np.sin(0.5), 0.0])
+    q = wxyz(Rotation.from_euler("z", 1.2) * Rotation.from_rotvec(np.pi * axis))
+    e, psi, inverted = tilt_from_quaternion(q)
+    assert bool(inverted) and np.isfinite(e).all() and psi == 0
+    np.testing.assert_allclose(body_up(e), body_up(q), atol=1e-12)  # still the right tilt
+    e, _, inverted = tilt_from_quaternion([0.0, 0.0, 0.0, 1.0])  # only a heading part: w = z = 0 is impossible
+    assert not inverted
+    e, _, inverted = tilt_from_quaternion([0.0, 1.0, 0.0, 0.0])
+    assert inverted and np.array_equal(e, [0.0, 1.0, 0.0, 0.0])
+
+
+def test_tilt_from_up_is_the_shortest_arc(rng):
+    u = rng.standard_normal((1000, 3)) * rng.uniform(0.1, 20, (1000, 1))
+    e = tilt_from_up(u)
+    assert np.all(e[:, 3] == 0)
+    np.testing.assert_allclose(
+        sp(e).apply(u / np.linalg.norm(u, axis=1, keepdims=True)), np.tile([0, 0, 1.0], (1000, 1)), atol=1e-12
+    )
+    # shortest: the angle equals the angle between u and z
+    angle = 2 * np.arccos(np.clip(e[:, 0], -1, 1))
+    np.testing.assert_allclose(angle, np.arccos(u[:, 2] / np.linalg.norm(u, axis=1)), atol=1e-7)
+    np.testing.assert_array_equal(tilt_from_up([0.0, 0.0, -3.0]), [0.0, 1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"up\[1\] is a zero vector"):
+        tilt_from_up([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]])
+
+
+def test_tilt_from_pitch_roll_closed_form(rng):
+    th = rng.uniform(-np.pi / 2, np.pi / 2, 500)
+    ph = rng.uniform(-np.pi, np.pi, 500)
+    e = tilt_from_pitch_roll(th, ph)
+    e0 = np.sqrt((1 + np.cos(th) * np.cos(ph)) / 2)  # math.md §5.5
+    keep = e0 > 1e-3
+    np.testing.assert_allclose(e[keep, 0], e0[keep], atol=1e-13)
+    np.testing.assert_allclose(e[keep, 1], (np.sin(ph) * np.cos(th) / (2 * e0))[keep], atol=1e-12)
+    np.testing.assert_allclose(e[keep, 2], (np.sin(th) / (2 * e0))[keep], atol=1e-12)
+    np.testing.assert_allclose(tilt_from_pitch_roll(np.degrees(th), np.degrees(ph), degrees=True), e, atol=1e-15)
+
+
+def test_yaw_free_kinematics_match_finite_differences(rng):
+    # constant body rate ω: q(t) = q0 ⊗ exp(ω t / 2) exactly (scipy); differentiate the split numerically
+    h = 1e-6
+    for _ in range(50):
+        q0 = Rotation.random(random_state=int(rng.integers(1 << 30)))
+        w = rng.standard_normal(3)
+        q = [wxyz(q0 * Rotation.from_rotvec(w * t)) for t in (-h, 0.0, h)]
+        (em, pm, _), (e, _, _), (ep, pp, _) = (tilt_from_quaternion(x) for x in q)
+        if e[0] < 0.2:
+            continue
+        e_dot, psi_dot = tilt_rates(e, w)
+        np.testing.assert_allclose(e_dot, (ep - em) / (2 * h), atol=1e-7)
+        np.testing.assert_allclose(psi_dot, np.angle(np.exp(1j * (pp - pm))) / (2 * h), atol=1e-7)
+    with pytest.raises(ValueError, match="upside down"):
+        tilt_rates([0.0, 1.0, 0.0, 0.0], [0.1, 0, 0])
+
+
+# --- the estimator ---------------------------------------------------------------------------------------------
+
+BIAS = np.radians(1.0)  # 1°/s on every axis
+
+
+def platform(duration, *, driving, gyro_bias=BIAS, seed=0, **kw):
+    """The patent's wheelchair: rocking in place, or driving, turning and bumping; ENU/FLU readings."""
+    traj = (
+        RockingPlatform(duration=duration, **kw)
+        if driving
+        else RockingPlatform(duration=duration, speed=0.0, turn_rate=0.0, bump_amplitude=0.0, **kw)
+    )
+    data = sample(
+        traj, 100.0, gyro="rate", imu=ImuModel(gyro=TriadModel(bias=gyro_bias)), seed=seed, reference="ENU", body="FLU"
+    )
+    return data
+
+
+def kinematic_acceleration(data):
+    """Truth: specific force minus gravity, body axes (what wheel odometry would supply)."""
+    q_mid = data.q_true[1:] + data.q_true[:-1]
+    q_mid /= np.linalg.norm(q_mid, axis=1, keepdims=True)
+    return data.acc - sp(q_mid).inv().apply([0.0, 0.0, G])
+
+
+def converged_after(bias, true, rel=0.01):
+    """First time (samples) after which the estimate stays within rel of the truth."""
+    bad = np.flatnonzero(~np.all(np.abs(bias - true) <= rel * np.abs(true), axis=1))
+    return 0 if not len(bad) else bad[-1] + 1
+
+
+def test_horizontal_bias_converges_vertical_is_unobservable():
+    # rocking in place: the patent's drift loop alone (never at rest); tau_bias = 30 s
+    data = platform(300.0, driving=False)
+    est = tilt(data.gyro, data.acc, dt=0.01, params=TiltParams(tau_bias=30.0))
+    assert not (est.flags & FLAG_REST).any()
+    k = converged_after(est.bias[:, :2], BIAS)
+    assert k < 5 * 30 * 100  # within 1 % on both horizontal axes after < 5 tau_bias (measured: 132 s)
+    assert abs(est.bias[-1, 2]) < 0.1 * BIAS  # vertical: not learnt in motion
+    e = attitude_errors(est.q, data.q_true[1:])["inclination"]
+    assert np.degrees(np.abs(e[k:])).max() < 0.3
+
+
+def test_driving_needs_the_known_acceleration():
+    # driving and turning: the centripetal and speed-change accelerations bias the tilt unless subtracted
+    data = platform(400.0, driving=True)
+    known = kinematic_acceleration(data)
+    p = TiltParams(tau_bias=30.0)
+    with_known = tilt(data.gyro, data.acc, dt=0.01, params=p, known_acc=known)
+    without = tilt(data.gyro, data.acc, dt=0.01, params=p)
+    assert converged_after(with_known.bias[:, :2], BIAS) < 10 * 30 * 100  # measured: 265 s
+    half = slice(20000, None)
+    incl_known = np.degrees(attitude_errors(with_known.q[half], data.q_true[1:][half])["inclination"])
+    incl_without = np.degrees(attitude_errors(without.q[half], data.q_true[1:][half])["inclination"])
+    assert np.sqrt(np.mean(incl_known**2)) < 0.2 < 0.5 < np.sqrt(np.mean(incl_without**2))
+
+
+def test_all_three_bias_components_are_learnt_at_rest():
+    n = 2000
+    bias = np.radians([0.8, -0.5, 1.2])
+    up = sp(wxyz(Rotation.from_euler("xy", [0.3, -0.2]))).inv().apply([0, 0, G])  # tilted, still
+    est = tilt(np.tile(bias, (n, 1)), np.tile(up, (n, 1)), dt=0.01)
+    rest = (est.flags & FLAG_REST) > 0
+    first = np.argmax(rest)
+    assert first * 0.01 == pytest.approx(1.5)  # rest_time (the first sample only initialises)
+    assert rest[first:].all()
+    np.testing.assert_allclose(est.bias[-1], bias, rtol=1e-4)  # 18.5 s at rest, tau_rest_bias = 1 s
+
+
+def test_inclinometer_input_in_ned():
+    # aerospace frames: NED reference, FRD body, pitch and roll as ZYX angles of the truth
+    # mean rates over each interval: the gyro frame is then exact and so is the estimate
+    data = sample(RockingPlatform(duration=60.0), 100.0, gyro="average", reference="NED", body="FRD")
+    pr = as_euler(data.q_true[1:], "ZYX")[:, 1:]
+    est = TiltEstimator(frame="NED").update(data.gyro, pitch_roll=np.degrees(pr), dt=0.01, degrees=True)
+    assert est.frame == "NED"
+    np.testing.assert_allclose(est.pitch, pr[:, 0], atol=5e-6)  # measured 5e-7 (coning)
+    np.testing.assert_allclose(est.roll, pr[:, 1], atol=5e-6)
+    # pitch and roll of the output are those of its attitude, in NED
+    ypr = as_euler(est.q, "ZYX")
+    np.testing.assert_allclose(ypr[:, 1:], np.column_stack([est.pitch, est.roll]), atol=1e-12)
+
+
+def test_frames_agree():
+    data = platform(30.0, driving=True)
+    enu = tilt(data.gyro, data.acc, dt=0.01)
+    ned = tilt(data.gyro, data.acc, dt=0.01, frame="NED")
+    np.testing.assert_allclose(change_frame(enu.q, ref_from="ENU", ref_to="NED"), ned.q, atol=1e-12)
+    np.testing.assert_array_equal(enu.bias, ned.bias)
+
+
+def test_first_sample_initialises_the_tilt():
+    q_true = wxyz(Rotation.from_euler("ZYX", [0.4, 0.5, -0.7]))
+    up = body_up(q_true) * G
+    est = tilt(np.zeros((1, 3)), up[None], dt=0.01)
+    assert np.degrees(attitude_errors(est.q[0], q_true)["inclination"]) < 1e-12
+    np.testing.assert_allclose(est.tilt[0], tilt_from_up(up), atol=1e-15)
+
+
+def test_gate_rejects_shocks():
+    n = 500
+    acc = np.tile([0.0, 0.0, G], (n, 1))
+    acc[200:220, 0] += 30.0  # a 0.2 s shock
+    gated = tilt(np.zeros((n, 3)), acc, dt=0.01, params=TiltParams(acc_gate=2.0))
+    open_ = tilt(np.zeros((n, 3)), acc, dt=0.01)
+    rejected = (gated.flags & FLAG_ACC_REJECTED) > 0
+    np.testing.assert_array_equal(np.flatnonzero(rejected), np.arange(200, 220))
+    assert np.abs(gated.pitch).max() < 1e-12
+    assert np.degrees(np.abs(open_.pitch).max()) > 1.0
+
+
+def test_upside_down_is_a_flag():
+    n = 300
+    est = tilt(np.zeros((n, 3)), np.tile([0.0, 0.0, -G], (n, 1)), dt=0.01)
+    assert np.isfinite(est.q).all() and np.isfinite(est.tilt).all()
+    assert np.all(est.flags & FLAG_INVERTED)
+    np.testing.assert_allclose(body_up(est.q), np.tile([0, 0, -1.0], (n, 1)), atol=1e-12)
+
+
+def test_chunking_and_state_round_trip(rng):
+    data = platform(20.0, driving=True)
+    t = np.cumsum(rng.uniform(0.008, 0.012, len(data.gyro)))
+    whole = TiltEstimator().update(data.gyro, data.acc, t=t)
+    f = TiltEstimator()
+    parts, start = [], 0
+    for size in (1, 7, 500, 0, 1234):
+        parts.append(
+            f.update(data.gyro[start : start + size], data.acc[start : start + size], t=t[start : start + size])
+        )
+        start += size
+    saved = f.state
+    g = TiltEstimator()
+    g.state = saved
+    parts.append(g.update(data.gyro[start:], data.acc[start:], t=t[start:]))
+    np.testing.assert_array_equal(np.concatenate([p.q for p in parts]), whole.q)
+    np.testing.assert_array_equal(np.concatenate([p.bias for p in parts if len(p)]), whole.bias)
+    np.testing.assert_array_equal(g.bias, whole.bias[-1])
+    assert set(saved) >= {"q", "q_gyro", "q_correction", "bias", "acc_filter", "rest_filter", "rest_seconds"}
+    assert saved["q_correction"][3] == 0  # the correction is a tilt quaternion
+
+
+def test_bad_input_is_named():
+    g = np.zeros((5, 3))
+    a = np.tile([0.0, 0, G], (5, 1))
+    with pytest.raises(ValueError, match="exactly one tilt sensor"):
+        tilt(g, a, dt=0.01, pitch_roll=np.zeros((5, 2)))
+    with pytest.raises(ValueError, match="exactly one tilt sensor"):
+        tilt(g, dt=0.01)
+    with pytest.raises(ValueError, match="do not give mag"):
+        TiltEstimator().update(g, a, a, dt=0.01)
+    with pytest.raises(ValueError, match="pitch_roll must have shape"):
+        tilt(g, pitch_roll=np.zeros((4, 2)), dt=0.01)
+    with pytest.raises(ValueError, match="known_acc must have"):
+        tilt(g, a, dt=0.01, known_acc=np.zeros((5, 2)))
+    bad = g.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"gyr\[3, 1\] is NaN"):
+        tilt(bad, a, dt=0.01)
+    with pytest.raises(ValueError, match="dt must be positive"):
+        tilt(g, a, dt=0.0)
+    with pytest.raises(ValueError, match="not strictly increasing at sample 2"):
+        tilt(g, a, t=[0.0, 0.1, 0.1, 0.2, 0.3])
+    with pytest.raises(ValueError, match="exactly one of dt"):
+        tilt(g, a)
+    with pytest.raises(ValueError, match="tau_acc must be positive"):
+        TiltParams(tau_acc=0.0)
+    with pytest.raises(ValueError, match="tau_bias must be a non-negative"):
+        TiltParams(tau_bias=-1.0)
+    with pytest.raises(ValueError, match="frame"):
+        TiltEstimator(frame="XYZ")

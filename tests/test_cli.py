@@ -51,11 +51,26 @@ def test_demo_compares_every_method_and_writes_its_files(demo):
         "hammerhead_loop_errors.png",
     ]
     table = np.loadtxt(out / "aerobatic_show.csv", delimiter=",", skiprows=1)
-    assert table.shape == (15201, 16)
-    # the CSV's error column is the angle between its true and integrated quaternions
+    assert table.shape == (15201, 21)
+    # the CSV's error columns are the angles between its true and integrated (fused) quaternions
     from strapdown import angle_between
 
     np.testing.assert_allclose(np.radians(table[:, 15]), angle_between(table[:, 1:5], table[:, 8:12]), atol=1e-8)
+    assert np.isnan(table[0, 16:]).all()
+    np.testing.assert_allclose(np.radians(table[1:, 20]), angle_between(table[1:, 1:5], table[1:, 16:20]), atol=1e-8)
+
+
+def test_demo_fuses_the_flight(demo):
+    stdout, _ = demo
+    rows = {}
+    for line in stdout.splitlines():
+        for label in ("gyro only (exact)", "TiltEstimator, known acc.", "TiltEstimator 6D", "Madgwick 9D"):
+            if line.startswith(label):
+                rows[label] = [float(x) for x in line[len(label) :].split()[:2]]
+    assert len(rows) == 4
+    # with the kinematic acceleration the tilt beats the gyro alone; without it, lift is taken for gravity
+    assert rows["TiltEstimator, known acc."][0] < 0.5 * rows["gyro only (exact)"][0]
+    assert rows["TiltEstimator 6D"][0] > rows["TiltEstimator, known acc."][0]
 
 
 def _table_rows(stdout):

@@ -23,6 +23,8 @@ import numpy as np
 from .broad import Trial, example_start, group_names, load_trials
 from .frames import frame_quaternion
 from .fusion import (
+    AttitudeEstimator,
+    AttitudeParams,
     Complementary,
     ComplementaryParams,
     Estimate,
@@ -40,6 +42,7 @@ __all__ = ["ESTIMATORS", "Evaluation", "GridSearch", "TrialResult", "evaluate", 
 
 #: Estimators by name: (class, parameter class, takes a magnetometer).
 ESTIMATORS: dict[str, tuple[type, type, bool]] = {
+    "attitude": (AttitudeEstimator, AttitudeParams, True),
     "tilt": (TiltEstimator, TiltParams, False),
     "complementary": (Complementary, ComplementaryParams, True),
     "mahony": (Mahony, MahonyParams, True),

@@ -6,6 +6,8 @@ numba kernel.  Conventions are those of :mod:`strapdown` (scalar-first quaternio
 timing and frames are described in :mod:`strapdown.fusion._base`: sample k is applied over the interval that
 ends at it, and outputs are in ``frame`` (ENU by default).
 
+* :class:`AttitudeEstimator`: 6D/9D orientation with gyro bias and scale-factor estimation, magnetic
+  disturbance rejection, and an offline mode (:func:`attitude_offline`);
 * :class:`TiltEstimator`: the Rowe patent's tilt estimation with gyro-drift correction (6D, or inclinometer);
 * :class:`Complementary`: a quaternion complementary filter (6D/9D);
 * :class:`Mahony`: Mahony's filter with integral bias (6D/9D);
@@ -14,6 +16,7 @@ ends at it, and outputs are in ``frame`` (ENU by default).
 """
 
 from ._base import FLAG_ACC_REJECTED, FLAG_INVERTED, FLAG_MAG_REJECTED, FLAG_REST, Estimate, initial_attitude
+from .attitude import AttitudeEstimator, AttitudeParams, attitude, attitude_offline
 from .complementary import Complementary, ComplementaryParams, complementary
 from .madgwick import Madgwick, MadgwickParams, madgwick
 from .mahony import Mahony, MahonyParams, mahony
@@ -32,6 +35,8 @@ __all__ = [
     "FLAG_INVERTED",
     "FLAG_MAG_REJECTED",
     "FLAG_REST",
+    "AttitudeEstimator",
+    "AttitudeParams",
     "Complementary",
     "ComplementaryParams",
     "Estimate",
@@ -41,6 +46,8 @@ __all__ = [
     "MahonyParams",
     "TiltEstimator",
     "TiltParams",
+    "attitude",
+    "attitude_offline",
     "complementary",
     "initial_attitude",
     "madgwick",

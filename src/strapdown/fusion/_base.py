@@ -13,7 +13,7 @@ z up) and reports in ``frame``; the body axes are the sensor's own.  The acceler
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -25,7 +25,7 @@ from ..quaternion import multiply
 __all__ = ["FLAG_ACC_REJECTED", "FLAG_INVERTED", "FLAG_MAG_REJECTED", "FLAG_REST", "Estimate", "Estimator"]
 
 FLAG_REST = 1  # rest detected: the gyro bias is being learnt from the raw gyro
-FLAG_ACC_REJECTED = 2  # the accelerometer was left out (its magnitude too far from g)
+FLAG_ACC_REJECTED = 2  # the accelerometer was left out (its magnitude too far from g, or no sample)
 FLAG_MAG_REJECTED = 4  # the magnetometer was left out (disturbed field)
 FLAG_INVERTED = 8  # within 1e-6 of upside down: the tilt quaternion chart is singular there (tilt.py)
 
@@ -90,26 +90,31 @@ class Estimate:
         return self._ypr[:, 2]
 
 
-def params_replace(params, **changes):
-    """A copy of a frozen parameter dataclass with some fields changed (validated again)."""
-    return replace(params, **changes)
+def _sensor(v, name: str, missing: bool) -> np.ndarray:
+    """A (N, 3) sensor array; with ``missing``, whole NaN rows are allowed (no sample of that sensor then)."""
+    if not missing:
+        return _v.vectors(v, name, dtype=np.float64)
+    arr = _v.vectors(v, name, check=False, dtype=np.float64)
+    if np.isfinite(arr).all():  # the usual case, one pass
+        return arr
+    absent = np.isnan(arr).all(axis=-1)
+    bad = ~(np.isfinite(arr).all(axis=-1) | absent)
+    if bad.any():
+        i = _v.first_index(bad)
+        raise ValueError(f"{name}{i} is partly NaN or infinite; a row must be finite, or all NaN for no sample")
+    return arr
 
 
-def describe(params) -> str:
-    """One line per field: name = value."""
-    return "\n".join(f"{f.name} = {getattr(params, f.name)!r}" for f in fields(params))
-
-
-def _triads(gyr, acc, mag, need_mag: bool):
+def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
-    a = _v.vectors(acc, "acc", dtype=np.float64)
+    a = _sensor(acc, "acc", missing)
     if g.ndim != 2 or a.ndim != 2:
         raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
         raise ValueError(f"acc has {a.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
     m = None
     if mag is not None:
-        m = _v.vectors(mag, "mag", dtype=np.float64)
+        m = _sensor(mag, "mag", missing)
         if m.shape != g.shape:
             raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
@@ -133,6 +138,7 @@ class Estimator:
 
     natural_frame = "ENU"
     estimates_bias = False
+    missing_samples = False  # True: NaN rows of acc and mag mean "no sample" (sensors at different rates)
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -232,7 +238,7 @@ class Estimator:
         Estimate
             One attitude per sample, and the filter's extra outputs.
         """
-        g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag))
+        g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
         if self._use_mag is not None and m is not None and not self._use_mag:
             raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
         n = g.shape[0]
@@ -266,14 +272,28 @@ class Estimator:
         return {}
 
     def _initial(self, acc, mag, extra_in) -> np.ndarray:
-        """Initial attitude in the natural frame from the first sample: tilt from acc, heading from mag."""
-        return initial_attitude(acc[0], None if mag is None else mag[0], self.natural_frame)
+        """Initial attitude in the natural frame from the first sample: tilt from acc, heading from mag.
+
+        With missing samples allowed, the first accelerometer and magnetometer samples present are used.
+        """
+        a = acc[_first_present(acc, "acc")]
+        m = None if mag is None else mag[_first_present(mag, "mag")]
+        return initial_attitude(a, m, self.natural_frame)
 
     def _new_state(self, q, acc, mag, dts, extra_in) -> dict:
         raise NotImplementedError
 
     def _run(self, gyr, acc, mag, dts, extra_in) -> Estimate:
         raise NotImplementedError
+
+
+def _first_present(arr: np.ndarray, name: str) -> int:
+    if arr.shape[0] and arr[0, 0] == arr[0, 0]:
+        return 0
+    present = np.flatnonzero(~np.isnan(arr[:, 0]))
+    if not len(present):
+        raise ValueError(f"{name} has no sample in the first chunk: the attitude cannot be initialised (give q0)")
+    return int(present[0])
 
 
 def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:

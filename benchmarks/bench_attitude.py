@@ -1,0 +1,258 @@
+"""The AttitudeEstimator against VQF: accuracy on BROAD, robustness, simulated checks, throughput (issue 7).
+
+    python benchmarks/bench_attitude.py [--broad DIR] [--n 1000000] [--repeat 5] [--skip-surface] [--json F]
+
+Accuracy: the 22 BROAD trials (CC BY 4.0; Laidig et al. 2021), official metric, one parameter set for all
+trials (the defaults), online 6D and 9D and offline 9D, with vqf's VQF and offlineVQF (defaults) run in the same
+process; per-group means (trials.json).  6D errors are taken after removing each trial's mean heading offset.
+
+Robustness: mean 9D total and 6D inclination RMSE over a grid of the two main time constants, tau_acc and tau_mag.
+
+Simulated checks (strapdown.simulate, ideal sensors but for what is named): a 0.5°/s gyro bias on every axis on a
+platform rocking and turning in place and on a body turning every way; a magnet near the sensor for 10 s.
+
+Throughput: batch calls on the BROAD recordings end to end and on 10^6 simulated samples at 100 Hz, best of
+--repeat, with vqf.VQF.updateBatch timed in the same run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+import strapdown
+from _timing import best_time
+from strapdown.evaluate import evaluate
+from strapdown.fusion import AttitudeParams, attitude, attitude_offline
+
+BROAD = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "broad"
+METRICS = ("total", "heading", "inclination")
+
+
+def vqf_runs():
+    from vqf import VQF, offlineVQF
+
+    def v6(t):
+        return VQF(t.dt).updateBatch(t.gyr, t.acc)["quat6D"]
+
+    def v9(t):
+        return VQF(t.dt).updateBatch(t.gyr, t.acc, t.mag)["quat9D"]
+
+    def off(t):
+        return offlineVQF(t.gyr, t.acc, t.mag, t.dt)["quat9D"]
+
+    return v6, v9, off
+
+
+def accuracy(trials) -> dict:
+    runs = {
+        "ours 6D": evaluate("attitude", trials),
+        "ours 9D": evaluate("attitude", trials, mag=True),
+        "ours offline 9D": evaluate(
+            lambda t: attitude_offline(t.gyr, t.acc, t.mag, dt=t.dt), trials, heading_offset=False
+        ),
+    }
+    try:
+        v6, v9, off = vqf_runs()
+        runs["VQF 6D"] = evaluate(v6, trials)
+        runs["VQF 9D"] = evaluate(v9, trials, heading_offset=False)
+        runs["VQF offline 9D"] = evaluate(off, trials, heading_offset=False)
+    except ImportError:
+        print("vqf is not installed (pip install 'strapdown[bench]'): no reference", file=sys.stderr)
+    print("\nBROAD, mean RMSE over the trials (deg), defaults for all trials; 6D: inclination, 9D: total")
+    names = list(runs)
+    groups = runs["ours 9D"].groups()
+    head = f"{'group (trials)':26}" + "".join(f"{n:>16}" for n in names)
+    print(head)
+    out = {n: {} for n in names}
+    for g, info in groups.items():
+        row = f"{g + ' (' + str(info['n']) + ')':26}"
+        for n in names:
+            metric = "inclination" if "6D" in n else "total"
+            v = runs[n].groups()[g][metric]
+            out[n][g] = {m: runs[n].groups()[g][m] for m in METRICS}
+            row += f"{v:16.3f}"
+        print(row)
+    print("\nmeans over all trials (total / heading / inclination)")
+    for n in names:
+        means = {m: runs[n].mean(m) for m in METRICS}
+        out[n]["mean"] = means
+        print(f"  {n:18} {means['total']:6.3f} / {means['heading']:6.3f} / {means['inclination']:6.3f}")
+    goals = [("ours 9D", "total", 2.2), ("ours 6D", "inclination", 0.70), ("ours offline 9D", "total", 1.9)]
+    for n, m, goal in goals:
+        v = out[n]["mean"][m]
+        print(f"  issue 7 goal: {n} mean {m} {v:.3f} <= {goal}: {'met' if v <= goal else 'MISSED'}")
+    return out
+
+
+def surface(trials) -> dict:
+    taus_acc = [2.0, 2.5, 3.0, 3.5, 4.0, 5.0]
+    taus_mag = [10.0, 15.0, 20.0, 30.0, 40.0]
+    print(
+        "\nRobustness: mean 9D total RMSE (deg) over tau_acc (rows, s) and tau_mag (columns, s); last column: 6D "
+        "inclination"
+    )
+    print(f"{'':8}" + "".join(f"{t:8.0f}" for t in taus_mag) + f"{'6D incl':>10}")
+    grid = {}
+    for ta in taus_acc:
+        row = []
+        for tm in taus_mag:
+            ev = evaluate("attitude", trials, params={"tau_acc": ta, "tau_mag": tm}, mag=True)
+            row.append(ev.mean("total"))
+        six = evaluate("attitude", trials, params={"tau_acc": ta}).mean("inclination")
+        grid[ta] = {"total_9d": dict(zip(taus_mag, row, strict=True)), "inclination_6d": six}
+        print(f"{ta:8.1f}" + "".join(f"{v:8.3f}" for v in row) + f"{six:10.3f}")
+    values = np.array([list(g["total_9d"].values()) for g in grid.values()])
+    print(f"9D total over the grid: {values.min():.3f}-{values.max():.3f} deg (defaults tau_acc 3.5, tau_mag 20)")
+    return grid
+
+
+def simulated() -> dict:
+    from strapdown.fusion import FLAG_MAG_REJECTED
+    from strapdown.metrics import attitude_errors
+    from strapdown.simulate import (
+        ImuModel,
+        MagneticDisturbance,
+        MagneticField,
+        RandomMotion,
+        RockingPlatform,
+        TriadModel,
+        sample,
+    )
+
+    field = MagneticField(declination_deg=0.0)
+    bias = np.radians(0.5)
+    out = {}
+    print(
+        "\nSimulated: 0.5 deg/s gyro bias on every axis, 100 Hz; seconds until each component stays within 0.05 deg/s"
+    )
+    cases = [
+        ("rocking and turning in place", RockingPlatform(duration=300.0, speed=0.0, bump_amplitude=0.0)),
+        ("turning every way", RandomMotion(duration=300.0, seed=3, acceleration_scale=0.0)),
+    ]
+    for label, traj in cases:
+        d = sample(
+            traj,
+            100.0,
+            gyro="average",
+            imu=ImuModel(gyro=TriadModel(bias=bias)),
+            reference="ENU",
+            body="FLU",
+            magnetic_field=field,
+        )
+        for mode, mag in (("6D", None), ("9D", d.mag)):
+            est = attitude(d.gyro, d.acc, mag, dt=0.01)
+            ok = np.abs(est.bias - bias) < np.radians(0.05)
+            times = [float((np.flatnonzero(~ok[:, i])[-1] + 1) * 0.01) if (~ok[:, i]).any() else 0.0 for i in range(3)]
+            text = ", ".join("never" if tt >= 300.0 else f"{tt:.0f} s" for tt in times)
+            print(
+                f"  {label:30} {mode}: x, y, z within 0.05 deg/s after {text}; final sigma z "
+                f"{np.degrees(est.extra['bias_sigma'][-1, 2]):.3f} deg/s"
+            )
+            out[f"{label} {mode}"] = times
+    magnet = MagneticDisturbance(50.0, 60.0, (30.0, 10.0, -20.0))
+    d = sample(
+        RandomMotion(duration=120.0, seed=5, acceleration_scale=0.0),
+        100.0,
+        gyro="average",
+        reference="ENU",
+        body="FLU",
+        magnetic_field=field,
+        disturbances=[magnet],
+    )
+    t = np.arange(1, len(d.gyro) + 1) * 0.01
+    print("  magnet of 30/10/-20 uT near the sensor from 50 to 60 s (field 50 uT):")
+    for label, p in (
+        ("rejection", AttitudeParams()),
+        ("no rejection", AttitudeParams(mag_norm_threshold=10.0, mag_dip_threshold=3.0)),
+    ):
+        est = attitude(d.gyro, d.acc, d.mag, dt=0.01, params=p)
+        flagged = (est.flags & FLAG_MAG_REJECTED) > 0
+        heading = np.degrees(attitude_errors(est.q, d.q_true[1:])["heading"])
+        inside = flagged[(t > 50.5) & (t < 59.5)].mean()
+        outside = flagged[(t < 49.5) | (t > 62)].mean()
+        print(
+            f"    {label:13} flagged {inside:.0%} of the magnet's time, {outside:.1%} outside; heading error max "
+            f"{heading[t >= 50].max():.2f} deg from 50 s on ({heading[t < 50].max():.2f} before)"
+        )
+        out[f"magnet {label}"] = {"flagged": float(inside), "heading_max": float(heading[t >= 50].max())}
+    return out
+
+
+def throughput(trials, n: int, repeat: int) -> dict:
+    sys.path.insert(0, str(Path(__file__).parent))
+    from bench_estimators import inputs
+
+    out = {}
+    sets = []
+    if trials:
+        cat = [np.ascontiguousarray(np.concatenate([getattr(t, k) for t in trials])) for k in ("gyr", "acc", "mag")]
+        sets.append((f"BROAD recordings ({len(cat[0]):,} samples, 286 Hz)", cat, trials[0].dt))
+    sets.append((f"simulated, {n:,} samples at 100 Hz", inputs(n), 0.01))
+    try:
+        from vqf import VQF
+    except ImportError:
+        VQF = None
+    print(f"\nThroughput, best of {repeat} (ratio: vqf time / our time)")
+    for label, (g, a, m), dt in sets:
+        attitude(g[:100], a[:100], dt=dt)
+        attitude(g[:100], a[:100], m[:100], dt=dt)
+        row = {}
+        for mode, mag in (("6D", None), ("9D", m)):
+            ours = best_time(lambda g=g, a=a, mag=mag, dt=dt: attitude(g, a, mag, dt=dt), repeat)
+            ref = None
+            if VQF is not None:
+                args = (g, a) if mag is None else (g, a, mag)
+                ref = best_time(lambda args=args, dt=dt: VQF(dt).updateBatch(*args), repeat)
+            row[mode] = {
+                "ours_samples_per_s": len(g) / ours,
+                "vqf_samples_per_s": len(g) / ref if ref else None,
+                "ratio": ref / ours if ref else None,
+            }
+            extra = f", vqf {len(g) / ref / 1e6:5.2f} M/s, {ref / ours:.2f}x" if ref else ""
+            print(f"  {label:44} {mode}: ours {len(g) / ours / 1e6:6.2f} M samples/s{extra}")
+        out[label] = row
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--broad", type=Path, default=BROAD)
+    ap.add_argument("--n", type=int, default=1_000_000)
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--skip-surface", action="store_true")
+    ap.add_argument("--json")
+    args = ap.parse_args(argv)
+    print(
+        f"strapdown {strapdown.__version__}, numpy {np.__version__}, numba {numba.__version__}, Python "
+        f"{platform.python_version()}, {platform.machine()}"
+    )
+    t0 = time.perf_counter()
+    results = {}
+    trials = []
+    if (args.broad / "data_mat").is_dir():
+        from strapdown.broad import load_trials
+
+        trials = load_trials(args.broad / "data_mat")
+        results["accuracy"] = accuracy(trials)
+        if not args.skip_surface:
+            results["surface"] = surface(trials)
+    else:
+        print(f"BROAD not found at {args.broad}: accuracy skipped")
+    results["simulated"] = simulated()
+    results["throughput"] = throughput(trials, args.n, args.repeat)
+    print(f"\n({time.perf_counter() - t0:.0f} s)")
+    if args.json:
+        Path(args.json).write_text(json.dumps(results, indent=2, default=str))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

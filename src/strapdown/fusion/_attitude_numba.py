@@ -1,0 +1,542 @@
+"""Numba kernel of :mod:`strapdown.fusion.attitude` (private).
+
+The state is one float64 vector ``s`` (offsets below, named in attitude.py) plus the 6x6 covariance ``P`` of the
+gyro bias and scale-factor errors; both are updated in place, so any chunking gives the same result.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ._kernels_numba import right_step, rotate, tilt_to_z, unit_rotvec
+
+# --- layout of s ------------------------------------------------------------------------------------------------
+QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
+QC = 4  # 3: correction q_c (a tilt quaternion, k part 0): I -> 6D reference frame
+AF = 7  # 6: the accelerometer filter's two states per axis (Butterworth, transposed direct form II), in I
+X = 13  # 6: gyro bias (rad/s) and scale-factor errors (dimensionless), sensor axes
+REG = 19  # 28: the regressor filter's two states for 14 channels (block rate)
+V7 = 47  # 7: the magnetometer regressors, first-order low-pass at tau_mag (block rate)
+ACC = 54  # 24: block accumulators: 14 acc regressors, 7 mag regressors, 3 field components
+TB = 78  # 1: seconds accumulated in the current block
+EXS = 79  # 3: the correction q_c at the start of the block (its change over the block is measured)
+W2 = 82  # 1: |omega|^2 dt summed over the block
+NMAG = 83  # 1: seconds of magnetometer data in the block
+RESTG = 84  # 3: gyro mean for rest detection
+RESTA = 87  # 3: accelerometer mean for rest detection
+REST = 90  # 1: seconds at rest so far
+DELTA = 91  # 1: heading offset delta (rad): output = q_z(delta) (x) q_6D
+MREF = 92  # 2: reference field norm, dip (rad)
+MCUR = 94  # 2: current field norm, dip (fast low-pass)
+MOLD = 96  # 2: the field before the last switch of reference (norm < 0: none)
+DIST = 98  # 1: seconds the field has been disturbed
+UND = 99  # 1: seconds the field has been undisturbed
+STARTED = 100  # 1: 1 once the regressor filter has started
+TACC = 101  # 1: seconds since the last accelerometer sample
+SIZE = 102
+
+N_REG = 14
+N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
+
+FLAG_REST = 1  # the package's flag bits (fusion/_base.py)
+FLAG_ACC_MISSING = 2  # FLAG_ACC_REJECTED: no accelerometer sample
+FLAG_MAG_DISTURBED = 4  # FLAG_MAG_REJECTED
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def butterworth(dt, tau):
+    """Second-order Butterworth low-pass (bilinear transform, prewarped) with cutoff √2/(2π tau): b0 b1 b2 a1 a2."""
+    k = math.tan(math.sqrt(2.0) / (2.0 * tau) * dt)
+    k2 = k * k
+    nrm = 1.0 / (1.0 + math.sqrt(2.0) * k + k2)
+    b0 = k2 * nrm
+    return b0, 2.0 * b0, b0, 2.0 * (k2 - 1.0) * nrm, (1.0 - math.sqrt(2.0) * k + k2) * nrm
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def kalman(x, P, H, z, R, nm, PHt, K, tmp):
+    """In-place Kalman update of the 6-state x, P with nm <= 3 measurements z = H x + noise of variances R.
+
+    Written for speed at the block rate: P is symmetric, so only its upper triangle is formed and mirrored.
+    """
+    for j in range(nm):
+        h0, h1, h2, h3, h4, h5 = H[j, 0], H[j, 1], H[j, 2], H[j, 3], H[j, 4], H[j, 5]
+        for i in range(6):
+            PHt[i, j] = P[i, 0] * h0 + P[i, 1] * h1 + P[i, 2] * h2 + P[i, 3] * h3 + P[i, 4] * h4 + P[i, 5] * h5
+    # S = H P Hᵀ + R, inverted in closed form
+    s00 = R[0]
+    for c in range(6):
+        s00 += H[0, c] * PHt[c, 0]
+    if nm == 1:
+        i00 = 1.0 / s00
+        for i in range(6):
+            K[i, 0] = PHt[i, 0] * i00
+    elif nm == 2:
+        s01 = 0.0
+        s11 = R[1]
+        for c in range(6):
+            s01 += H[0, c] * PHt[c, 1]
+            s11 += H[1, c] * PHt[c, 1]
+        det = s00 * s11 - s01 * s01
+        i00 = s11 / det
+        i01 = -s01 / det
+        i11 = s00 / det
+        for i in range(6):
+            a0 = PHt[i, 0]
+            a1 = PHt[i, 1]
+            K[i, 0] = a0 * i00 + a1 * i01
+            K[i, 1] = a0 * i01 + a1 * i11
+    else:
+        s01 = s02 = s12 = 0.0
+        s11 = R[1]
+        s22 = R[2]
+        for c in range(6):
+            s01 += H[0, c] * PHt[c, 1]
+            s02 += H[0, c] * PHt[c, 2]
+            s11 += H[1, c] * PHt[c, 1]
+            s12 += H[1, c] * PHt[c, 2]
+            s22 += H[2, c] * PHt[c, 2]
+        c00 = s11 * s22 - s12 * s12
+        c01 = s02 * s12 - s01 * s22
+        c02 = s01 * s12 - s02 * s11
+        inv_det = 1.0 / (s00 * c00 + s01 * c01 + s02 * c02)
+        i00 = c00 * inv_det
+        i01 = c01 * inv_det
+        i02 = c02 * inv_det
+        i11 = (s00 * s22 - s02 * s02) * inv_det
+        i12 = (s01 * s02 - s00 * s12) * inv_det
+        i22 = (s00 * s11 - s01 * s01) * inv_det
+        for i in range(6):
+            a0 = PHt[i, 0]
+            a1 = PHt[i, 1]
+            a2 = PHt[i, 2]
+            K[i, 0] = a0 * i00 + a1 * i01 + a2 * i02
+            K[i, 1] = a0 * i01 + a1 * i11 + a2 * i12
+            K[i, 2] = a0 * i02 + a1 * i12 + a2 * i22
+    for j in range(nm):
+        tmp[j] = z[j] - (
+            H[j, 0] * x[0] + H[j, 1] * x[1] + H[j, 2] * x[2] + H[j, 3] * x[3] + H[j, 4] * x[4] + H[j, 5] * x[5]
+        )
+    for i in range(6):
+        d = 0.0
+        for j in range(nm):
+            d += K[i, j] * tmp[j]
+        x[i] += d
+    # P -= K (H P) = K PHtᵀ, upper triangle then mirrored
+    for i in range(6):
+        for c in range(i, 6):
+            d = 0.0
+            for j in range(nm):
+                d += K[i, j] * PHt[c, j]
+            v = P[i, c] - d
+            P[i, c] = v
+            P[c, i] = v
+
+
+@nb.njit(cache=True, error_model="numpy")
+def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
+    """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
+
+    p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
+    rest noise density², mag noise density², rest gyro threshold², rest acc threshold², rest time, rest filter
+    tau, bias clip, field norm threshold (relative), dip threshold (rad), reference tau, current tau, new-field
+    time, block length (s).
+
+    Speed: the per-sample recursion (gyro frame, filter, correction, rest detection) runs first over a block
+    and writes the 6D attitudes to ``out``; a second, simple loop then forms the block's regressor sums from
+    them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
+    """
+    tau_acc = p[0]
+    rest_gyr2, rest_acc2, rest_time, rest_tau, t_block = p[8], p[9], p[10], p[11], p[18]
+    gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
+    cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
+    f1x, f1y, f1z, f2x, f2y, f2z = s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5]
+    x = s[X : X + 6].copy()
+    sums = np.zeros(N_SUMS)
+    sums[:24] = s[ACC : ACC + 24]
+    sums[24] = s[W2]
+    sums[25] = s[NMAG]
+    tb = s[TB]
+    sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
+    rgx, rgy, rgz = s[RESTG], s[RESTG + 1], s[RESTG + 2]
+    rax, ray, raz = s[RESTA], s[RESTA + 1], s[RESTA + 2]
+    rest = s[REST]
+    H = np.zeros((3, 6))
+    z = np.zeros(3)
+    R = np.zeros(3)
+    PHt = np.zeros((6, 3))
+    K = np.zeros((6, 3))
+    tmp = np.zeros(3)
+    work = np.zeros(N_REG + 9)  # regressor outputs; cached block coefficients: T, b0, b1, b2, a1, a2, kmag, kcur, kref
+    work[N_REG] = -1.0
+    last_dt = -1.0
+    last_t_acc = -1.0
+    t_acc = s[TACC]
+    b0 = b1 = b2 = a1 = a2 = rr = 0.0
+    ax = ay = az = 0.0
+    sg0 = math.sqrt(P[0, 0])
+    sg1 = math.sqrt(P[1, 1])
+    sg2 = math.sqrt(P[2, 2])
+    bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+    start = 0  # first sample of the current block in this chunk
+    n = gyr.shape[0]
+    for k in range(n):
+        dt = dts[k]
+        if dt != last_dt:  # coefficients change only with the interval
+            rr = 1.0 - math.exp(-dt / rest_tau)
+            last_dt = dt
+        flag = 0
+        wx = gyr[k, 0]
+        wy = gyr[k, 1]
+        wz = gyr[k, 2]
+        # 1. gyro frame with the bias and scale factor of the last block update
+        ux = wx - bx - sx * wx
+        uy = wy - by - sy * wy
+        uz = wz - bz - sz * wz
+        gw, gx, gy, gz = right_step(gw, gx, gy, gz, ux * dt, uy * dt, uz * dt)
+        # 2. accelerometer in I, Butterworth low-pass; a missing sample (NaN row) holds the filter
+        ax_ = acc[k, 0]
+        t_acc += dt
+        if ax_ == ax_:
+            if t_acc != last_t_acc:  # the filter steps over the time since the last accelerometer sample
+                b0, b1, b2, a1, a2 = butterworth(t_acc, tau_acc)
+                last_t_acc = t_acc
+            t_acc = 0.0
+            ax = ax_
+            ay = acc[k, 1]
+            az = acc[k, 2]
+            ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
+            mx = b0 * ix + f1x
+            f1x = b1 * ix - a1 * mx + f2x
+            f2x = b2 * ix - a2 * mx
+            my = b0 * iy + f1y
+            f1y = b1 * iy - a1 * my + f2y
+            f2y = b2 * iy - a2 * my
+            mz = b0 * iz + f1z
+            f1z = b1 * iz - a1 * mz + f2z
+            f2z = b2 * iz - a2 * mz
+            # 3. the correction: the tilt quaternion that turns the filtered vector vertical
+            cw, c1, c2 = tilt_to_z(mx, my, mz)
+        else:
+            flag |= FLAG_ACC_MISSING
+        out[k, 0] = cw * gw - c1 * gx - c2 * gy  # the 6D attitude q_c ⊗ q_g (the k part of q_c is 0)
+        out[k, 1] = cw * gx + c1 * gw + c2 * gz
+        out[k, 2] = cw * gy - c1 * gz + c2 * gw
+        out[k, 3] = cw * gz + c1 * gy - c2 * gx
+        # 5. rest: gyro and accelerometer close to their 0.5 s means for rest_time
+        rgx += rr * (wx - rgx)
+        rgy += rr * (wy - rgy)
+        rgz += rr * (wz - rgz)
+        rax += rr * (ax - rax)
+        ray += rr * (ay - ray)
+        raz += rr * (az - raz)
+        dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
+        da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
+        if dg < rest_gyr2 and da < rest_acc2:
+            rest += dt
+        else:
+            rest = 0.0
+        if rest >= rest_time:
+            flag |= FLAG_REST
+        bias_out[k, 0] = bx
+        bias_out[k, 1] = by
+        bias_out[k, 2] = bz
+        sigma_out[k, 0] = sg0
+        sigma_out[k, 1] = sg1
+        sigma_out[k, 2] = sg2
+        flags[k] = flag
+        tb += dt
+        if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
+            _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
+            _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
+            start = k + 1
+            # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
+            ex_sum, ey_sum, _ = unit_rotvec(
+                cw * sw + c1 * s1 + c2 * s2, c1 * sw - cw * s1, c2 * sw - cw * s2, c2 * s1 - c1 * s2
+            )
+            sw, s1, s2 = cw, c1, c2
+            _block(
+                s,
+                P,
+                x,
+                sums,
+                tb,
+                ex_sum,
+                ey_sum,
+                rest >= rest_time,
+                rgx,
+                rgy,
+                rgz,
+                use_mag,
+                p,
+                H,
+                z,
+                R,
+                PHt,
+                K,
+                tmp,
+                work,
+            )
+            sg0 = math.sqrt(P[0, 0])
+            sg1 = math.sqrt(P[1, 1])
+            sg2 = math.sqrt(P[2, 2])
+            bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+            tb = 0.0
+            for i in range(N_SUMS):
+                sums[i] = 0.0
+    # the unfinished block: its sums so far are kept in the state
+    _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
+    _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
+    s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
+    s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
+    s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5] = f1x, f1y, f1z, f2x, f2y, f2z
+    s[X : X + 6] = x
+    s[ACC : ACC + 24] = sums[:24]
+    s[W2] = sums[24]
+    s[NMAG] = sums[25]
+    s[TB] = tb
+    s[EXS], s[EXS + 1], s[EXS + 2] = sw, s1, s2
+    s[RESTG], s[RESTG + 1], s[RESTG + 2] = rgx, rgy, rgz
+    s[RESTA], s[RESTA + 1], s[RESTA + 2] = rax, ray, raz
+    s[REST] = rest
+    s[TACC] = t_acc
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
+    """Add samples j0..j1-1 to the block sums, time-weighted.
+
+    The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|², and in 9D
+    the vertical row likewise and the field in the 6D frame.  The rows times the bias-and-scale correction are
+    formed at the block update from these.
+    """
+    # continue the block's running sums in order, so that any chunking gives bit-identical sums
+    u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
+    u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
+    for j in range(j0, j1):
+        dt = dts[j]
+        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
+        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
+        r01 = 2.0 * (qx * qy - qw * qz) * dt
+        r02 = 2.0 * (qx * qz + qw * qy) * dt
+        r10 = 2.0 * (qx * qy + qw * qz) * dt
+        r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
+        r12 = 2.0 * (qy * qz - qw * qx) * dt
+        u0 += r00
+        u1 += r01
+        u2 += r02
+        u3 += r10
+        u4 += r11
+        u5 += r12
+        u6 += r00 * wx
+        u7 += r01 * wy
+        u8 += r02 * wz
+        u9 += r10 * wx
+        u10 += r11 * wy
+        u11 += r12 * wz
+        w2 += (wx * wx + wy * wy + wz * wz) * dt
+    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
+    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
+    if not use_mag:
+        return
+    v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
+    h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
+    for j in range(j0, j1):
+        mgx = mag[j, 0]
+        if mgx != mgx:  # no magnetometer sample
+            continue
+        dt = dts[j]
+        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
+        r20 = 2.0 * (qx * qz - qw * qy)
+        r21 = 2.0 * (qy * qz + qw * qx)
+        r22 = 1.0 - 2.0 * (qx * qx + qy * qy)
+        v0 += r20 * dt
+        v1 += r21 * dt
+        v2 += r22 * dt
+        v3 += r20 * gyr[j, 0] * dt
+        v4 += r21 * gyr[j, 1] * dt
+        v5 += r22 * gyr[j, 2] * dt
+        hx, hy, hz = rotate(qw, qx, qy, qz, mgx, mag[j, 1], mag[j, 2])
+        h0 += hx * dt
+        h1 += hy * dt
+        h2 += hz * dt
+        tm += dt
+    sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
+    sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
+    """9D: turn the 6D attitudes of samples j0..j1-1 by the heading offset, q = q_z(delta) ⊗ q_6D."""
+    if not use_mag:
+        return
+    cd = math.cos(0.5 * delta)
+    sd = math.sin(0.5 * delta)
+    for j in range(j0, j1):
+        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
+        out[j, 0] = cd * qw - sd * qz
+        out[j, 1] = cd * qx - sd * qy
+        out[j, 2] = cd * qy + sd * qx
+        out[j, 3] = cd * qz + sd * qw
+        if disturbed:
+            flags[j] |= FLAG_MAG_DISTURBED
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, use_mag, p, H, z, R, PHt, K, tmp, work):
+    """The block-rate part: regressor filter, Kalman updates of bias and scale, magnetometer heading."""
+    tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
+    r_motion, kappa2, r_rest, r_mag, clip = p[4], p[5], p[6], p[7], p[12]
+    norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
+    w2_sum = accu[24]
+    t_mag = accu[25]
+    c = N_REG
+    if abs(T - work[c]) > 1e-9 * T:  # blocks have the same length unless the sample intervals change
+        work[c] = T
+        work[c + 1], work[c + 2], work[c + 3], work[c + 4], work[c + 5] = butterworth(T, tau_acc)
+        work[c + 6] = 1.0 - math.exp(-T / tau_mag)
+        work[c + 7] = 1.0 - math.exp(-T / cur_tau)
+        work[c + 8] = 1.0 - math.exp(-T / ref_tau)
+    b0, b1, b2, a1, a2 = work[c + 1], work[c + 2], work[c + 3], work[c + 4], work[c + 5]
+    kmag, kcur, kref = work[c + 6], work[c + 7], work[c + 8]
+    for i in range(3):
+        P[i, i] += q_bias * T
+        P[3 + i, 3 + i] += q_scale * T
+    # the regressors through the same low-pass as the accelerometer (box mean of the block, then Butterworth at
+    # the block rate): the correction rate responds to a bias error through that filter (math: attitude.py)
+    # rows of R times the bias-and-scale correction, constant over the block: linear in the other sums
+    accu[12] = accu[0] * x[0] + accu[1] * x[1] + accu[2] * x[2] + accu[6] * x[3] + accu[7] * x[4] + accu[8] * x[5]
+    accu[13] = accu[3] * x[0] + accu[4] * x[1] + accu[5] * x[2] + accu[9] * x[3] + accu[10] * x[4] + accu[11] * x[5]
+    accu[20] = accu[14] * x[0] + accu[15] * x[1] + accu[16] * x[2] + accu[17] * x[3] + accu[18] * x[4] + accu[19] * x[5]
+    start = s[STARTED] == 0.0
+    lp = work
+    for i in range(N_REG):
+        v = accu[i] / T
+        j = REG + 2 * i
+        if start:  # steady state at the first block's value
+            s[j] = v * (1.0 - b0)
+            s[j + 1] = v * (b2 - a2)
+        y = b0 * v + s[j]
+        s[j] = b1 * v - a1 * y + s[j + 1]
+        s[j + 1] = b2 * v - a2 * y
+        lp[i] = y
+    s[STARTED] = 1.0
+    w2 = w2_sum / T
+    rm = (r_motion + kappa2 * w2) / T
+    for j in range(3):
+        H[0, j] = lp[j]
+        H[1, j] = lp[3 + j]
+        H[0, 3 + j] = lp[6 + j]
+        H[1, 3 + j] = lp[9 + j]
+    z[0] = lp[12] - ex_sum / T
+    z[1] = lp[13] - ey_sum / T
+    R[0] = rm
+    R[1] = rm
+    kalman(x, P, H, z, R, 2, PHt, K, tmp)
+    if at_rest:
+        for a in range(3):
+            for j in range(6):
+                H[a, j] = 0.0
+            H[a, a] = 1.0
+            R[a] = r_rest / T
+        z[0] = rgx
+        z[1] = rgy
+        z[2] = rgz
+        kalman(x, P, H, z, R, 3, PHt, K, tmp)
+    for i in range(3):
+        x[i] = min(max(x[i], -clip), clip)
+    if not use_mag or t_mag <= 0.0:
+        return
+    # magnetometer: the field in the 6D frame, its norm and dip against a learned reference, the heading offset
+    hx = accu[21] / t_mag
+    hy = accu[22] / t_mag
+    hz = accu[23] / t_mag
+    nrm = math.sqrt(hx * hx + hy * hy + hz * hz)
+    dip = math.atan2(-hz, math.sqrt(hx * hx + hy * hy))
+    if s[MREF] <= 0.0:  # first field: it is the reference
+        s[MREF], s[MREF + 1], s[MCUR], s[MCUR + 1] = nrm, dip, nrm, dip
+        for i in range(7):
+            s[V7 + i] = accu[14 + i] / t_mag
+    s[MCUR] += kcur * (nrm - s[MCUR])
+    s[MCUR + 1] += kcur * (dip - s[MCUR + 1])
+    cn, cdp = s[MCUR], s[MCUR + 1]
+    disturbed = abs(cn - s[MREF]) > norm_th * s[MREF] or abs(cdp - s[MREF + 1]) > dip_th
+    if disturbed and s[MOLD] > 0.0 and abs(cn - s[MOLD]) <= norm_th * s[MOLD] and abs(cdp - s[MOLD + 1]) <= dip_th:
+        # the field is back to the one before the last change of reference (a disturbance that ended)
+        s[MREF], s[MOLD] = s[MOLD], s[MREF]
+        s[MREF + 1], s[MOLD + 1] = s[MOLD + 1], s[MREF + 1]
+        disturbed = False
+    if disturbed:
+        s[DIST] += T
+        s[UND] = 0.0
+        if s[DIST] > new_time:  # a new environment, not a passing disturbance: accept it
+            s[MOLD], s[MOLD + 1] = s[MREF], s[MREF + 1]
+            s[MREF], s[MREF + 1] = cn, cdp
+            s[DIST] = 0.0
+    else:
+        s[DIST] = 0.0
+        s[UND] += T
+        s[MREF] += kref * (cn - s[MREF])
+        s[MREF + 1] += kref * (cdp - s[MREF + 1])
+    for i in range(7):
+        s[V7 + i] += kmag * (accu[14 + i] / t_mag - s[V7 + i])
+    delta = s[DELTA]
+    d_prev = delta
+    if not disturbed:
+        err = math.atan2(hx, hy) - delta  # the offset that turns the horizontal field to north (+y of ENU)
+        err = (err + math.pi) % (2.0 * math.pi) - math.pi
+        delta += kmag * err
+        delta = (delta + math.pi) % (2.0 * math.pi) - math.pi
+        s[DELTA] = delta
+    # the vertical bias from the heading offset's rate, once the offset has settled after a disturbance
+    if r_mag > 0.0 and s[UND] > tau_mag:
+        step = delta - d_prev
+        step = (step + math.pi) % (2.0 * math.pi) - math.pi
+        for j in range(6):
+            H[0, j] = s[V7 + j]
+        z[0] = s[V7 + 6] - step / T
+        R[0] = (r_mag + kappa2 * w2) / T
+        kalman(x, P, H, z, R, 1, PHt, K, tmp)
+        for i in range(3):
+            x[i] = min(max(x[i], -clip), clip)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def smooth_directions(v, w, dts, tau):
+    """Zero-phase weighted smoothing of direction vectors (rows of v) with first-order time constant tau.
+
+    Forward and backward exponential means of ``w v`` and of ``w`` over the sample intervals ``dts``, combined
+    without counting sample i twice; the ratio is the smoothed direction (unnormalised).  Samples of weight 0
+    are bridged by their neighbours.
+    """
+    n, d = v.shape
+    fwd = np.zeros((n, d))
+    fw = np.zeros(n)
+    acc = np.zeros(d)
+    aw = 0.0
+    for i in range(n):
+        k = 1.0 - math.exp(-dts[i] / tau) if i > 0 else 1.0
+        keep = 1.0 - k if i > 0 else 0.0
+        for j in range(d):
+            acc[j] = keep * acc[j] + w[i] * v[i, j]
+        aw = keep * aw + w[i]
+        for j in range(d):
+            fwd[i, j] = acc[j]
+        fw[i] = aw
+    out = np.zeros((n, d))
+    for j in range(d):
+        acc[j] = 0.0
+    aw = 0.0
+    for i in range(n - 1, -1, -1):
+        keep = math.exp(-dts[i + 1] / tau) if i < n - 1 else 0.0
+        for j in range(d):
+            acc[j] = keep * acc[j] + w[i] * v[i, j]
+        aw = keep * aw + w[i]
+        total = fw[i] + aw - w[i]
+        for j in range(d):
+            out[i, j] = (fwd[i, j] + acc[j] - w[i] * v[i, j]) / total if total > 0.0 else 0.0
+    return out

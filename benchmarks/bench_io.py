@@ -1,0 +1,181 @@
+"""File I/O at scale: a 10^8-sample Parquet log integrated end to end by the CLI in constant memory.
+
+    python benchmarks/bench_io.py [--n 100000000] [--dir /tmp] [--reference-n N] [--keep] [--json out.json]
+
+1. Writes a gyro log (t, gx, gy, gz as float64; smooth random rates, 1 kHz with jittered timestamps) to a
+   Parquet file in row groups of 2^20, with constant memory.
+2. Runs ``strapdown integrate LOG -o OUT.parquet`` as a subprocess (time, quaternion and ZYX Euler angles out,
+   progress bar off) and reads its wall time and its peak resident memory from ``wait4`` (the same figure as
+   ``/usr/bin/time -v``).  The claim: peak RSS below 1 GiB whatever the file size.
+3. The reference, in the same run: ``strapdown.integrate(gyro, t=t)`` on the same samples held in memory (the
+   arrays are loaded first and not timed), so the ratio says what streaming from and to files costs against
+   the library alone.  ``--reference-n`` integrates only the first N samples in memory when the whole file
+   would not fit (the figure is then samples/s on N); by default all n.
+4. Checks that the file's last attitude equals the in-memory one (angle < 1e-9 rad) when both cover all n.
+
+Also reports ``strapdown --help`` wall time (best of 5).  Big files go under ``--dir`` and are deleted at the
+end unless ``--keep``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+GIB = 1 << 30
+
+
+def write_log(path: Path, n: int, seed: int = 0) -> float:
+    """A 1 kHz gyro log in row groups of 2^20 rows; returns seconds taken.
+
+    The rates are sums of four sinusoids per axis (0.05-2 Hz, up to about 3 rad/s) plus white noise: smooth
+    motion that stays within a gyro's range however long the file.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(seed)
+    amp = rng.uniform(0.2, 0.8, (4, 3))
+    freq = 2 * np.pi * rng.uniform(0.05, 2.0, (4, 3))
+    phase = rng.uniform(0, 2 * np.pi, (4, 3))
+    schema = pa.schema([(name, pa.float64()) for name in ("t", "gx", "gy", "gz")])
+    block = 1 << 20
+    with pq.ParquetWriter(path, schema, compression="snappy", use_dictionary=False) as w:
+        for a in range(0, n, block):
+            m = min(block, n - a)
+            t = (a + np.arange(m)) * 1e-3
+            rates = rng.normal(0.0, 0.01, (m, 3))
+            for j in range(4):
+                rates += amp[j] * np.sin(freq[j] * t[:, None] + phase[j])
+            t += rng.uniform(-2e-5, 2e-5, m)  # timestamp jitter: the times are read, not assumed
+            w.write_batch(pa.record_batch([t, rates[:, 0], rates[:, 1], rates[:, 2]], schema=schema))
+    return time.perf_counter() - t0
+
+
+def run_cli(args: list[str]) -> tuple[float, int, int]:
+    """Wall time, peak RSS (bytes) and exit code of one strapdown CLI run."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "strapdown.cli", *args], stdout=subprocess.PIPE)
+    _, status, usage = os.wait4(proc.pid, 0)
+    seconds = time.perf_counter() - t0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    sys.stdout.write(proc.stdout.read().decode())
+    return seconds, usage.ru_maxrss * 1024, proc.returncode
+
+
+def load(path: Path, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The first n rows of the log in memory: times (n,) and rates (n, 3)."""
+    import pyarrow.parquet as pq
+
+    f = pq.ParquetFile(path, pre_buffer=False)
+    t = np.empty(n)
+    gyro = np.empty((n, 3))
+    row = 0
+    for batch in f.iter_batches(batch_size=1 << 20, columns=["t", "gx", "gy", "gz"]):
+        m = min(batch.num_rows, n - row)
+        t[row : row + m] = batch.column(0).to_numpy()[:m]
+        for i in range(3):
+            gyro[row : row + m, i] = batch.column(i + 1).to_numpy()[:m]
+        row += m
+        if row == n:
+            break
+    return t, gyro
+
+
+def last_attitude(path: Path) -> np.ndarray:
+    import pyarrow.parquet as pq
+
+    f = pq.ParquetFile(path)
+    last = f.read_row_group(f.metadata.num_row_groups - 1, columns=["qw", "qx", "qy", "qz"])
+    return np.array([last.column(i)[-1].as_py() for i in range(4)])
+
+
+def help_time() -> float:
+    best = np.inf
+    for _ in range(5):
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "strapdown.cli", "--help"], capture_output=True, check=True)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", type=float, default=1e8, help="samples in the log")
+    ap.add_argument("--dir", default=tempfile.gettempdir(), help="where the big files go")
+    ap.add_argument("--reference-n", type=float, default=None, help="samples integrated in memory (default: n)")
+    ap.add_argument("--keep", action="store_true", help="keep the files")
+    ap.add_argument("--json", default=None)
+    args = ap.parse_args()
+    n = int(args.n)
+    n_ref = n if args.reference_n is None else int(args.reference_n)
+    work = Path(tempfile.mkdtemp(prefix="strapdown-bench-io-", dir=args.dir))
+    log, out = work / "gyro.parquet", work / "attitude.parquet"
+    results: dict = {"n": n, "reference_n": n_ref, "python": platform.python_version(), "cpus": os.cpu_count()}
+    try:
+        print(f"writing {n:.3g} samples to {log} ...", flush=True)
+        results["write_seconds"] = write_log(log, n)
+        results["log_bytes"] = log.stat().st_size
+        print(f"  {results['log_bytes'] / GIB:.2f} GiB in {results['write_seconds']:.1f} s", flush=True)
+
+        print("strapdown integrate (streaming, subprocess) ...", flush=True)
+        # first a tiny file, so that numba's cache is warm and only the file work is timed below
+        write_log(work / "warm.parquet", 1000)
+        run_cli(["integrate", str(work / "warm.parquet"), "-o", str(work / "warm.csv"), "-q"])
+        seconds, rss, code = run_cli(["integrate", str(log), "-o", str(out)])
+        if code != 0:
+            raise SystemExit(f"strapdown integrate failed with exit code {code}")
+        results.update(stream_seconds=seconds, stream_peak_rss=rss, out_bytes=out.stat().st_size)
+        results["stream_samples_per_s"] = n / seconds
+
+        print(f"in-memory reference: strapdown.integrate on {n_ref:.3g} samples ...", flush=True)
+        import strapdown as sd
+
+        t, gyro = load(log, n_ref)
+        sd.integrate(gyro[:1000], t=t[:1001])  # numba kernels loaded
+        t0 = time.perf_counter()
+        q = sd.integrate(gyro[:-1], t=t)
+        results["memory_seconds"] = time.perf_counter() - t0
+        results["memory_samples_per_s"] = (n_ref - 1) / results["memory_seconds"]
+        if n_ref == n:
+            results["last_attitude_angle_rad"] = float(sd.angle_between(q[-1], last_attitude(out)))
+        del t, gyro, q
+        results["help_seconds"] = help_time()
+    finally:
+        if not args.keep:
+            for p in work.iterdir():
+                p.unlink()
+            work.rmdir()
+
+    ratio = results["stream_samples_per_s"] / results["memory_samples_per_s"]
+    print()
+    print(f"file I/O benchmark: {n:.3g} samples, {results['cpus']} CPUs, Python {results['python']}")
+    print(f"  log (t, gx, gy, gz float64, snappy)        {results['log_bytes'] / GIB:8.2f} GiB")
+    print(f"  output (t, q, yaw/pitch/roll, snappy)      {results['out_bytes'] / GIB:8.2f} GiB")
+    print(f"  strapdown integrate, streaming             {results['stream_seconds']:8.1f} s   "
+          f"{results['stream_samples_per_s'] / 1e6:8.2f} M samples/s")  # fmt: skip
+    print(f"    peak RSS                                 {rss / GIB:8.3f} GiB   (limit 1 GiB: "
+          f"{'met' if rss < GIB else 'MISSED'})")  # fmt: skip
+    print(f"  strapdown.integrate in memory ({n_ref:.3g})    {results['memory_seconds']:8.1f} s   "
+          f"{results['memory_samples_per_s'] / 1e6:8.2f} M samples/s")  # fmt: skip
+    print(f"  streaming / in-memory throughput           {ratio:8.3f}")
+    if "last_attitude_angle_rad" in results:
+        print(f"  last attitude, file vs memory              {results['last_attitude_angle_rad']:8.1e} rad")
+    print(f"  strapdown --help                           {results['help_seconds']:8.3f} s")
+    results["ratio"] = ratio
+    if args.json:
+        Path(args.json).write_text(json.dumps(results, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,26 @@
+"""Optional dependencies, imported when first needed with an install hint (private)."""
+
+from __future__ import annotations
+
+import importlib
+
+# module -> the extra that installs it
+_EXTRA = {
+    "pyarrow": "io",
+    "pyarrow.csv": "io",
+    "pyarrow.parquet": "io",
+    "h5py": "io",
+    "scipy.io": "io",
+    "tqdm": "cli",
+    "matplotlib": "plot",
+    "distributed": "dask",
+}
+
+
+def need(module: str, what: str):
+    """Import ``module`` or raise ImportError saying which extra to install for ``what``."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        extra = _EXTRA.get(module, "io")
+        raise ImportError(f"{what} needs {module.split('.')[0]}: pip install 'strapdown[{extra}]'") from exc

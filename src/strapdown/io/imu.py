@@ -1,0 +1,435 @@
+"""IMU readings from a file, in SI units and checked, a chunk of rows at a time.
+
+:class:`ImuColumns` says where the readings are and in which units (everything it leaves out is detected from
+the column names); :class:`ImuFile` resolves that against a file and yields :class:`ImuChunk` objects of
+times (s), gyro (rad/s, or rad for increments), accelerometer (m/s²) and magnetometer (µT) readings.
+
+Every chunk is checked before anything is computed from it, and a problem raises ``ValueError`` with what a
+user needs to fix it: the file, the column and the line (CSV) or row:
+
+* a column that is not there (the message lists those that are), arrays of different lengths (HDF5, .mat);
+* NaN or empty values (the first line numbers);
+* time that does not increase (where, and the two values), gaps longer than ``max_gap`` sample periods;
+* units that the magnitudes contradict (:func:`strapdown.io.units.check_plausible`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
+from .readers import Source, open_source
+from .units import check_plausible, parse_unit, scale
+
+__all__ = ["ImuChunk", "ImuColumns", "ImuFile", "read_imu"]
+
+_KINDS = ("gyro", "acc", "mag")
+_LOOKED_FOR = {
+    "gyro": "gx,gy,gz / gyr_x.. / gyro_x.. / wx.. / gyr, gyro, imu_gyr (N, 3)",
+    "acc": "ax,ay,az / acc_x.. / accel_x.. / acc, imu_acc (N, 3)",
+    "mag": "mx,my,mz / mag_x.. / mag, imu_mag (N, 3)",
+}
+
+
+@dataclass(frozen=True)
+class ImuColumns:
+    """Where the readings are in a file and their units; None means: detect from the names.
+
+    Attributes
+    ----------
+    gyro, acc, mag : str, optional
+        Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``).
+    time : str, optional
+        The time column.
+    rate : float, optional
+        Sample rate in Hz, for files without time (row k is at k / rate).
+    gyro_unit, acc_unit, mag_unit, time_unit : str, optional
+        Units (:data:`strapdown.io.units.UNITS`); by default the unit written in the column name, else
+        rad/s, m/s2, uT and s.  For gyro increments rad/s means rad and deg/s means deg.
+    extra : tuple of (str, str)
+        Further inputs of an estimator: (keyword, columns), e.g. ``("known_acc", "kx,ky,kz")``; ``known_acc``
+        is in the accelerometer's unit.
+    max_gap : float
+        Largest step allowed between two times, in nominal sample periods (0: no check).
+    unit_check : bool
+        Check that the magnitudes fit the units.
+    format : str, optional
+        The file format when the suffix does not tell it.
+    """
+
+    gyro: str | None = None
+    acc: str | None = None
+    mag: str | None = None
+    time: str | None = None
+    rate: float | None = None
+    gyro_unit: str | None = None
+    acc_unit: str | None = None
+    mag_unit: str | None = None
+    time_unit: str | None = None
+    extra: tuple = ()
+    max_gap: float = 10.0
+    unit_check: bool = True
+    format: str | None = None
+
+
+@dataclass
+class ImuChunk:
+    """Rows ``row`` to ``row + len - 1`` of a file, in SI units.
+
+    Attributes
+    ----------
+    row : int
+        First row (0-based).
+    t : numpy.ndarray, shape (n,)
+        Times, s.
+    gyro : numpy.ndarray, shape (n, 3)
+        rad/s (rad for increments).
+    acc, mag : numpy.ndarray of shape (n, 3), or None
+        m/s² and µT, when read.
+    extra : dict
+        Estimator inputs by keyword.
+    """
+
+    row: int
+    t: np.ndarray
+    gyro: np.ndarray
+    acc: np.ndarray | None = None
+    mag: np.ndarray | None = None
+    extra: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return self.t.shape[0]
+
+
+class ImuFile:
+    """A file of IMU readings: the columns resolved, units fixed, and checked chunks on demand.
+
+    Parameters
+    ----------
+    path : path-like
+        A CSV, Parquet, HDF5 or MATLAB file.
+    columns : ImuColumns, optional
+        Mapping and units (detected where left out).
+    require : tuple of str
+        Quantities that must be present (of "gyro", "acc", "mag").
+    optional : tuple of str
+        Quantities read when present.
+    increments : bool
+        The gyro holds angle increments (for the unit check).
+
+    Attributes
+    ----------
+    source : Source
+        The open file.
+    picks : dict of str to Pick
+        The fields of each quantity read.
+    units : dict of str to str
+        The unit of each quantity read.
+    rows : int or None
+        Number of rows when known without a pass over the file.
+    rate : float or None
+        Sample rate (Hz) when rows are timed by a rate, not a column.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import ImuFile, write_table
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "log.parquet"
+    >>> _ = write_table(path, {"time": np.arange(3) * 0.01, "Gyro X [dps]": np.full(3, 90.0),
+    ...                        "Gyro Y [dps]": np.zeros(3), "Gyro Z [dps]": np.zeros(3)})
+    >>> imu = ImuFile(path)
+    >>> print(imu.describe())
+    gyro: Gyro X [dps],Gyro Y [dps],Gyro Z [dps] (deg/s); time: time (s)
+    >>> next(imu.chunks(100)).gyro[0].round(6)
+    array([1.570796, 0.      , 0.      ])
+    """
+
+    def __init__(
+        self,
+        path,
+        columns: ImuColumns | None = None,
+        *,
+        require: tuple = ("gyro",),
+        optional: tuple = (),
+        increments: bool = False,
+    ):
+        self.spec = columns or ImuColumns()
+        self.source: Source = open_source(path, self.spec.format)
+        self.path = self.source.path
+        try:
+            self._resolve(require, optional, increments)
+        except BaseException:
+            self.source.close()
+            raise
+
+    # ------------------------------------------------------------------------------------------------
+    def _resolve(self, require, optional, increments) -> None:
+        spec, fields = self.spec, self.source.fields
+        self.picks: dict[str, Pick] = {}
+        self.units: dict[str, str] = {}
+        for kind in (*require, *optional):
+            given = getattr(spec, kind)
+            pick = pick_vector(given, fields, f"--{kind}") if given else detect_vector(kind, fields)
+            if pick is None:
+                if kind in require:
+                    raise ValueError(
+                        f"{self.path}: no {kind} columns found (looked for {_LOOKED_FOR[kind]}); name them with "
+                        f"--{kind}.  The file has: {describe_fields(fields)}"
+                    )
+                continue
+            self.picks[kind] = pick
+            declared = getattr(spec, f"{kind}_unit")
+            self.units[kind] = parse_unit(kind, declared) if declared else (pick.unit_hint or _SI[kind])
+        self.extra: dict[str, Pick] = {}
+        for name, cols in spec.extra:
+            n_given = len([c for c in cols.split(",") if c.strip()])
+            width = n_given if n_given > 1 else fields.get(cols.strip(), 1)
+            self.extra[name] = pick_vector(cols, fields, f"--extra {name}", width=width)
+        self._resolve_time()
+        self.increments = increments
+        self.rows = self._check_lengths()
+
+    def _resolve_time(self) -> None:
+        spec, fields = self.spec, self.source.fields
+        if spec.time and spec.rate:
+            raise ValueError("give the time column (--time) or the sample rate (--rate), not both")
+        self.time: Pick | None = None
+        self.rate: float | None = None
+        if spec.rate is not None:
+            if not (np.isfinite(spec.rate) and spec.rate > 0):
+                raise ValueError(f"--rate must be a positive number of Hz, got {spec.rate!r}")
+            self.rate = float(spec.rate)
+        elif spec.time:
+            self.time = pick_vector(spec.time, fields, "--time", width=1)
+        else:
+            self.time = detect_time(fields)
+            if self.time is None:
+                self.rate = detect_rate(self.source.scalars)
+            if self.time is None and self.rate is None:
+                raise ValueError(
+                    f"{self.path}: no time column found (looked for t, time, timestamp, ts, time_s, ...) and no "
+                    f"sampling rate stored in the file; give --time COLUMN or --rate HZ.  The file has: "
+                    f"{describe_fields(fields)}"
+                )
+        self._timestamps = self.time is not None and self.source.is_timestamp(self.time.fields[0])
+        if self.time is not None:
+            declared = self.spec.time_unit
+            self.units["time"] = parse_unit("time", declared) if declared else (self.time.unit_hint or "s")
+
+    def _check_lengths(self) -> int | None:
+        """The rows of the fields read (HDF5 and .mat store each field's length; they must agree)."""
+        lengths = self.source.lengths
+        if not lengths:
+            return self.source.rows
+        used = [(k, p) for k, p in self.picks.items()] + [(f"--extra {k}", p) for k, p in self.extra.items()]
+        if self.time is not None:
+            used.append(("time", self.time))
+        sizes = [(k, f, lengths[f]) for k, p in used for f in p.fields]
+        if len({s for _, _, s in sizes}) > 1:
+            listing = ", ".join(f"{k} {f!r} has {s}" for k, f, s in sizes)
+            raise ValueError(f"{self.path}: the readings have different lengths: {listing} rows; they must match")
+        return sizes[0][2]
+
+    # ------------------------------------------------------------------------------------------------
+    def describe(self) -> str:
+        """What is read from where, in which unit: one line."""
+        parts = [f"{k}: {p.label} ({self.units[k]})" for k, p in self.picks.items()]
+        parts += [f"{k}: {p.label}" for k, p in self.extra.items()]
+        if self.time is None:
+            parts.append(f"rate: {self.rate:g} Hz")
+        elif self._timestamps:
+            parts.append(f"time: {self.time.label} (date-times, in s from the first)")
+        else:
+            parts.append(f"time: {self.time.label} ({self.units['time']})")
+        return "; ".join(parts)
+
+    def count_rows(self) -> int:
+        """Number of rows (a pass over a CSV file)."""
+        if self.rows is None:
+            self.rows = self.source.count_rows()
+        return self.rows
+
+    def where(self, row: int) -> str:
+        """Where a row is, for messages: ``"line 12"`` (CSV) or ``"row 10"``."""
+        return self.source.where(row)
+
+    def close(self) -> None:
+        """Release the file."""
+        self.source.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def chunks(self, chunk_rows: int = 1 << 18, start: int = 0, stop: int | None = None) -> Iterator[ImuChunk]:
+        """Checked chunks of rows ``start`` to ``stop`` in SI units.
+
+        Parameters
+        ----------
+        chunk_rows : int
+            Rows per chunk (about, for CSV).
+        start, stop : int
+            Row range; the whole file by default.
+
+        Yields
+        ------
+        ImuChunk
+            Times and readings; a ValueError at the first bad row.
+        """
+        names = [f for p in self.picks.values() for f in p.fields]
+        names += [f for p in self.extra.values() for f in p.fields]
+        if self.time is not None:
+            names += list(self.time.fields)
+        names = list(dict.fromkeys(names))
+        check = _TimeCheck(self)
+        for row, cols in self.source.chunks(names, chunk_rows, start, stop):
+            n = len(next(iter(cols.values()))) if cols else 0
+            self._check_finite(cols, row, n)
+            if self._timestamps:
+                t = cols[self.time.fields[0]]  # already seconds
+            elif self.time is not None:
+                t = cols[self.time.fields[0]] * scale("time", self.units["time"])
+            else:
+                t = (row + np.arange(n)) / self.rate
+            check(t, row)
+            out = ImuChunk(row, t, gyro=None)
+            for kind, pick in self.picks.items():
+                raw = _assemble(cols, pick)
+                if self.spec.unit_check and kind in _KINDS:
+                    self._check_units(kind, raw, row, check.period)
+                setattr(out, kind, raw * scale(kind, self.units[kind]))
+            for name, pick in self.extra.items():
+                values = _assemble(cols, pick)
+                if name == "known_acc" and "acc" in self.units:
+                    values = values * scale("acc", self.units["acc"])
+                out.extra[name] = values
+            yield out
+
+    def _check_finite(self, cols: dict, row: int, n: int) -> None:
+        bad = np.zeros(n, dtype=bool)
+        culprit = {}
+        for name, values in cols.items():
+            b = ~np.isfinite(values)
+            if b.ndim == 2:
+                b = b.any(axis=1)
+            if b.any():
+                culprit.setdefault(int(np.argmax(b)), name)
+                bad |= b
+        if not bad.any():
+            return
+        rows = np.flatnonzero(bad)
+        shown = ", ".join(self.where(row + int(i)).split()[-1] for i in rows[:5])
+        unit = self.where(row).split()[0] + ("s" if rows.size > 1 else "")
+        more = f" (and {rows.size - 5} more in rows {row}-{row + n - 1})" if rows.size > 5 else ""
+        first = culprit[min(culprit)]
+        raise ValueError(
+            f"{self.path}: NaN or empty values at {unit} {shown}{more}, first in column {first!r}; remove or fill "
+            "those rows (their readings are unknown, and every later attitude depends on them)"
+        )
+
+    def _check_units(self, kind: str, raw: np.ndarray, row: int, period: float | None) -> None:
+        rate = 1.0 / period if (self.increments and kind == "gyro" and period) else None
+        if kind == "gyro" and self.increments and not rate:
+            return
+        problem = check_plausible(kind, raw, self.units[kind], rate_hz=rate)
+        if problem:
+            raise ValueError(f"{self.path}: {problem} (columns {self.picks[kind].label}, from {self.where(row)})")
+
+
+_SI = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}
+
+
+def _assemble(cols: dict, pick: Pick) -> np.ndarray:
+    if len(pick.fields) == 1:
+        v = cols[pick.fields[0]]
+        return np.ascontiguousarray(v if v.ndim == 2 else v[:, None])
+    return np.column_stack([cols[f] for f in pick.fields])
+
+
+class _TimeCheck:
+    """Strictly increasing time and no gap longer than ``max_gap`` nominal periods, across chunks."""
+
+    def __init__(self, imu: ImuFile):
+        self.imu = imu
+        self.last: float | None = None
+        self.period: float | None = None if imu.rate is None else 1.0 / imu.rate
+
+    def __call__(self, t: np.ndarray, row: int) -> None:
+        if t.size == 0:
+            return
+        imu = self.imu
+        prev = t[0] if self.last is None else self.last
+        d = np.diff(t, prepend=prev)
+        if self.last is None:
+            d[0] = np.inf
+        bad = np.flatnonzero(~(d > 0))
+        if bad.size:
+            i = int(bad[0])
+            before = prev if i == 0 else t[i - 1]
+            raise ValueError(
+                f"{imu.path}: time ({imu.time.label}) does not increase at {imu.where(row + i)}: {float(before)!r} -> "
+                f"{float(t[i])!r}; sort the rows, or drop the repeated ones"
+            )
+        if self.period is None:
+            inner = d[np.isfinite(d)]
+            if inner.size:
+                self.period = float(np.median(inner))
+        limit = imu.spec.max_gap
+        if limit and self.period:
+            over = np.flatnonzero(np.isfinite(d) & (d > limit * self.period))
+            if over.size:
+                i = int(over[0])
+                before = prev if i == 0 else t[i - 1]
+                raise ValueError(
+                    f"{imu.path}: a gap of {d[i]:.6g} s ({d[i] / self.period:.1f} sample periods of "
+                    f"{self.period:.6g} s) before {imu.where(row + i)} (time {float(before)!r} -> {float(t[i])!r}); "
+                    f"at most --max-gap {limit:g} periods are allowed.  Split the file there, or raise --max-gap "
+                    "(0: no check)"
+                )
+        self.last = float(t[-1])
+
+
+def read_imu(path, columns: ImuColumns | None = None, **kwargs) -> ImuChunk:
+    """Read a whole IMU file into memory, converted to SI and checked (for files that fit in memory).
+
+    Parameters
+    ----------
+    path : path-like
+        A CSV, Parquet, HDF5 or MATLAB file.
+    columns : ImuColumns, optional
+        Mapping and units (detected where left out).
+    **kwargs
+        ``require``, ``optional``, ``increments``: see :class:`ImuFile`.
+
+    Returns
+    -------
+    ImuChunk
+        All rows.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import read_imu, write_table
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "log.csv"
+    >>> _ = write_table(path, {"gx": np.zeros(4), "gy": np.zeros(4), "gz": np.ones(4),
+    ...                        "ax": np.zeros(4), "ay": np.zeros(4), "az": np.ones(4)})
+    >>> data = read_imu(path, columns=ImuColumns(rate=100.0, acc_unit="g"), optional=("acc",))
+    >>> data.t, data.acc[0]
+    (array([0.  , 0.01, 0.02, 0.03]), array([0.     , 0.     , 9.80665]))
+    """
+    with ImuFile(path, columns, **kwargs) as imu:
+        parts = list(imu.chunks(1 << 22))
+    if not parts:
+        raise ValueError(f"{path}: no rows")
+
+    def cat(name):
+        values = [getattr(p, name) for p in parts]
+        return None if values[0] is None else np.concatenate(values)
+
+    extra = {k: np.concatenate([p.extra[k] for p in parts]) for k in parts[0].extra}
+    return ImuChunk(0, cat("t"), cat("gyro"), cat("acc"), cat("mag"), extra)

@@ -1,0 +1,642 @@
+"""File in, file out: integrate gyro logs, run an estimator, convert representations, simulate IMU files.
+
+Each function streams its input through the library's streaming objects (:class:`strapdown.AttitudeIntegrator`
+and the estimators of :data:`strapdown.evaluate.ESTIMATORS`, whose ``update`` on chunks equals one call on
+everything), so memory stays constant whatever the file's size, and writes through
+:func:`strapdown.io.table_writer`: the output appears, whole, only when everything succeeded.
+
+Timing of ``integrate_file``: row k holds the sample of step k, which runs from row k's time to row k+1's (the
+library's convention, :mod:`strapdown.integrate`); output row k is the attitude at row k's time, so the output
+lines up with the input and the last sample, whose step ends after the file, is not used.  ``estimate_file``
+follows the estimators (a sample acts over the interval that ends at it) and also writes one row per input row.
+"""
+
+from __future__ import annotations
+
+import inspect
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..integrate import AttitudeIntegrator
+from .imu import ImuColumns, ImuFile
+from .readers import format_of, open_source
+from .tables import REPRESENTATIONS, Angles, OutputSpec, attitude_columns, column_names, from_values, to_values
+from .writers import table_writer
+
+__all__ = [
+    "Report",
+    "convert_file",
+    "convert_values",
+    "default_output",
+    "estimate_file",
+    "estimator_inputs",
+    "integrate_file",
+    "integrate_stream",
+    "simulate_file",
+]
+
+CHUNK_ROWS = 1 << 18  # rows in flight: about 400 bytes of memory each, and no speed to gain beyond
+
+#: Called after each chunk with (rows done, total rows or None).
+Progress = Callable[[int, int | None], None]
+
+
+@dataclass
+class Report:
+    """What a file command did.
+
+    Attributes
+    ----------
+    input, output : pathlib.Path or None
+        The files.
+    rows : int
+        Rows written.
+    seconds : float
+        Wall time.
+    read : str
+        Which columns were read, in which units.
+    """
+
+    input: Path | None
+    output: Path
+    rows: int
+    seconds: float
+    read: str = ""
+    notes: list = field(default_factory=list)
+
+
+def default_output(input, command: str, format: str | None = None) -> Path:
+    """The output beside ``input``: ``<stem>.<command>.<csv|parquet>`` (CSV unless the input is Parquet).
+
+    Parameters
+    ----------
+    input : path-like
+        The input file.
+    command : str
+        ``"integrate"``, ``"estimate"``, ``"convert"``.
+    format : {"csv", "parquet", "hdf5", "mat"}, optional
+        The output format.
+
+    Returns
+    -------
+    pathlib.Path
+        The output path.
+
+    Examples
+    --------
+    >>> from strapdown.io.pipeline import default_output
+    >>> str(default_output("logs/a.parquet", "estimate")), str(default_output("b.mat", "integrate"))
+    ('logs/a.estimate.parquet', 'b.integrate.csv')
+    """
+    input = Path(input)
+    if format is None:
+        try:
+            format = "parquet" if format_of(input) == "parquet" else "csv"
+        except ValueError:
+            format = "csv"
+    suffix = {"csv": ".csv", "parquet": ".parquet", "hdf5": ".h5", "mat": ".mat"}[format]
+    return input.with_name(f"{input.stem}.{command}{suffix}")
+
+
+def _metadata(command: str, **items) -> dict:
+    from .. import __version__
+
+    meta = {"strapdown_version": __version__, "strapdown_command": command}
+    meta.update({k: str(v) for k, v in items.items() if v is not None})
+    return meta
+
+
+def _chunks_with_progress(imu: ImuFile, chunk_rows: int, progress: Progress | None, start=0, stop=None):
+    total = imu.rows if stop is None else stop - start
+    done = 0
+    for chunk in imu.chunks(chunk_rows, start, stop):
+        yield chunk
+        done += len(chunk)
+        if progress is not None:
+            progress(done, total)
+
+
+# ----------------------------------------------------------------------------------------------------------
+def integrate_stream(
+    chunks: Iterator, *, method=None, input="rate", rate_frame="body", q0=None, rate=None
+) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Attitudes at the row times of a stream of IMU chunks, in pieces of (times, quaternions).
+
+    Step k uses row k's sample from row k's time to row k+1's (the library's convention); the first row gets
+    ``q0`` (identity by default) and the last row's sample is not used.  Memory: about one chunk.
+
+    Parameters
+    ----------
+    chunks : iterator of ImuChunk
+        Consecutive rows.
+    method, input, rate_frame, q0
+        As for :class:`strapdown.AttitudeIntegrator`.
+    rate : float, optional
+        The rows are ``1/rate`` apart (no time column): one ``dt`` for every step.
+
+    Yields
+    ------
+    tuple of numpy.ndarray
+        (t (n,), q (n, 4)); together one attitude per row, in order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.imu import ImuChunk
+    >>> from strapdown.io.pipeline import integrate_stream
+    >>> t = np.arange(5) * 0.5
+    >>> gyro = np.tile([0.0, 0.0, np.pi / 2], (5, 1))              # 90 deg/s about z
+    >>> pieces = list(integrate_stream([ImuChunk(0, t[:2], gyro[:2]), ImuChunk(2, t[2:], gyro[2:])]))
+    >>> np.concatenate([q for _, q in pieces])[-1].round(12)       # 180 deg after 2 s
+    array([0., 0., 0., 1.])
+    """
+    integ = None
+    waiting = _RowTimes()  # row times still waiting for their attitude
+    held = None  # the last sample so far: its step ends at the next row's time
+    for chunk in chunks:
+        if not len(chunk):
+            continue
+        if integ is None:
+            integ = AttitudeIntegrator(method, q0=q0, input=input, rate_frame=rate_frame, t0=float(chunk.t[0]))
+            start = np.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else np.asarray(q0, dtype=np.float64)
+            yield chunk.t[:1], (start / np.linalg.norm(start))[None]
+            waiting.push(chunk.t[1:])
+            g, ends = chunk.gyro[:-1], chunk.t[1:]
+        else:
+            waiting.push(chunk.t)
+            g, ends = np.concatenate([held, chunk.gyro[:-1]]), chunk.t
+        held = chunk.gyro[-1:]
+        if input == "increment":
+            q = integ.update(g)
+        elif rate is not None:
+            q = integ.update(g, dt=1.0 / rate)
+        else:
+            q = integ.update(g, t=ends)
+        if len(q):
+            yield waiting.take(len(q)), q
+    if integ is not None and integ.state is not None:
+        q = integ.finish()
+        if len(q):
+            yield waiting.take(len(q)), q
+
+
+class _RowTimes:
+    """A queue of times, taken from the front as attitudes come out of the integrator."""
+
+    def __init__(self):
+        self.parts: list[np.ndarray] = []
+
+    def push(self, t: np.ndarray) -> None:
+        self.parts.append(t)
+
+    def take(self, m: int) -> np.ndarray:
+        everything = np.concatenate(self.parts) if len(self.parts) > 1 else self.parts[0]
+        self.parts = [everything[m:]]
+        return everything[:m]
+
+
+def _output_path(path, output, command: str, format: str | None) -> Path:
+    out = Path(output) if output is not None else default_output(path, command, format)
+    if path is not None and out.resolve() == Path(path).resolve():
+        raise ValueError(f"the output {out} is the input file; choose another output (-o)")
+    return out
+
+
+def integrate_file(
+    path,
+    output=None,
+    *,
+    columns: ImuColumns | None = None,
+    out: OutputSpec | None = None,
+    method: str | None = None,
+    input: str = "rate",
+    rate_frame: str = "body",
+    q0=None,
+    chunk_rows: int = CHUNK_ROWS,
+    progress: Progress | None = None,
+) -> Report:
+    """Integrate the gyro readings of a file into attitudes and write them, streaming (constant memory).
+
+    Parameters
+    ----------
+    path : path-like
+        CSV, Parquet, HDF5 or MATLAB file with gyro readings and a time column or rate.
+    output : path-like, optional
+        CSV, Parquet, HDF5 or .mat file; by default ``<stem>.integrate.csv`` (``.parquet`` for Parquet input)
+        beside the input.  Written atomically.
+    columns : ImuColumns, optional
+        Column mapping and units (detected where left out).
+    out : OutputSpec, optional
+        Euler angles and format of the output.
+    method, input, rate_frame, q0
+        As for :func:`strapdown.integrate`.
+    chunk_rows : int
+        Rows per chunk.
+    progress : callable, optional
+        Called with (rows done, total rows or None) after each chunk.
+
+    Returns
+    -------
+    Report
+        Files, rows and time taken.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import integrate_file, read_table, write_table
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> n = 101
+    >>> _ = write_table(folder / "log.csv", {"t": np.arange(n) * 0.01, "gx": np.full(n, 90.0),
+    ...                                      "gy": np.zeros(n), "gz": np.zeros(n)})
+    >>> report = integrate_file(folder / "log.csv", columns=ImuColumns(gyro_unit="deg/s"))
+    >>> report.output.name, report.rows
+    ('log.integrate.csv', 101)
+    >>> read_table(report.output)["roll_deg"][[0, 50, 100]].round(9)     # 90 deg/s for 0.5 s and 1 s
+    array([ 0., 45., 90.])
+    """
+    t_start = time.perf_counter()
+    out = out or OutputSpec()
+    output = _output_path(path, output, "integrate", out.format)
+    with ImuFile(path, columns, require=("gyro",), increments=input == "increment") as imu:
+        stream = integrate_stream(
+            _chunks_with_progress(imu, chunk_rows, progress),
+            method=method,
+            input=input,
+            rate_frame=rate_frame,
+            q0=q0,
+            rate=imu.rate,
+        )
+        meta = _metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame)
+        with table_writer(output, out.format, meta) as w:
+            for t, q in stream:
+                w.write(attitude_columns(t, q, out))
+        return Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
+
+
+def estimator_inputs(cls) -> tuple[str, ...]:
+    """The extra keyword inputs an estimator's ``update`` takes (``known_acc``, ``pitch_roll``, ...).
+
+    Parameters
+    ----------
+    cls : type
+        An estimator class.
+
+    Returns
+    -------
+    tuple of str
+        Keyword-only parameters other than the timing.
+
+    Examples
+    --------
+    >>> from strapdown.fusion import Mahony, TiltEstimator
+    >>> from strapdown.io.pipeline import estimator_inputs
+    >>> estimator_inputs(TiltEstimator), estimator_inputs(Mahony)
+    (('known_acc', 'pitch_roll'), ())
+    """
+    sig = inspect.signature(cls.update)
+    skip = {"dt", "t", "degrees"}
+    return tuple(n for n, p in sig.parameters.items() if p.kind is inspect.Parameter.KEYWORD_ONLY and n not in skip)
+
+
+def estimate_file(
+    path,
+    output=None,
+    *,
+    estimator: str = "attitude",
+    params=None,
+    frame: str = "ENU",
+    mag: bool | None = None,
+    q0=None,
+    columns: ImuColumns | None = None,
+    out: OutputSpec | None = None,
+    chunk_rows: int = CHUNK_ROWS,
+    progress: Progress | None = None,
+) -> Report:
+    """Run an estimator of :data:`strapdown.evaluate.ESTIMATORS` over a file and write its attitudes, streaming.
+
+    Parameters
+    ----------
+    path : path-like
+        CSV, Parquet, HDF5 or MATLAB file with gyro and accelerometer (and magnetometer) readings.
+    output : path-like, optional
+        Output file; by default ``<stem>.estimate.csv`` (``.parquet`` for Parquet input) beside the input.
+    estimator : str
+        A key of :data:`strapdown.evaluate.ESTIMATORS` (default: the AttitudeEstimator).
+    params : mapping or parameter object, optional
+        Parameters (a mapping overrides the defaults by name; validated).
+    frame : str
+        Reference frame of the output (``"ENU"``, ``"NED"``, ``"NWU"``, ...).
+    mag : bool, optional
+        Use the magnetometer (9D): None uses it when the file has one and the estimator takes one; True
+        requires it; False leaves it out.
+    q0 : array_like, shape (4,), optional
+        Initial attitude in ``frame``; by default from the first sample.
+    columns : ImuColumns, optional
+        Column mapping and units; ``extra`` gives the estimator's further inputs (``known_acc``, ``pitch_roll``).
+    out : OutputSpec, optional
+        Euler angles, bias, flags and format of the output.
+    chunk_rows : int
+        Rows per chunk.
+    progress : callable, optional
+        Called with (rows done, total rows or None) after each chunk.
+
+    Returns
+    -------
+    Report
+        Files, rows and time taken.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import estimate_file, read_table, write_table
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> n = 500
+    >>> level = {"t": np.arange(n) * 0.01, "gx": np.zeros(n), "gy": np.zeros(n), "gz": np.zeros(n),
+    ...          "ax": np.zeros(n), "ay": np.zeros(n), "az": np.full(n, 9.81)}
+    >>> report = estimate_file(write_table(folder / "still.parquet", level), estimator="mahony")
+    >>> table = read_table(report.output)
+    >>> report.output.name, table["pitch_deg"][-1].round(9), table["roll_deg"][-1].round(9)
+    ('still.estimate.parquet', np.float64(0.0), np.float64(0.0))
+    """
+    from ..evaluate import ESTIMATORS, make_params
+
+    t_start = time.perf_counter()
+    p = make_params(estimator, params)  # also rejects an unknown estimator, listing the known ones
+    cls, _, takes_mag = ESTIMATORS[estimator]
+    columns = columns or ImuColumns()
+    out = out or OutputSpec()
+    allowed = estimator_inputs(cls)
+    for name, _ in columns.extra:
+        if name not in allowed:
+            listing = ", ".join(allowed) or "none"
+            raise ValueError(f"{estimator} takes no input {name!r} (--extra); its extra inputs: {listing}")
+    if mag and not takes_mag:
+        raise ValueError(f"{estimator} does not take a magnetometer (6D only): leave out --mag / --9d")
+    extra_names = [name for name, _ in columns.extra]
+    require = ("gyro",) + (() if "pitch_roll" in extra_names else ("acc",)) + (("mag",) if mag else ())
+    optional = ("mag",) if (takes_mag and mag is None) else ()
+    output = _output_path(path, output, "estimate", out.format)
+    with ImuFile(path, columns, require=require, optional=optional) as imu:
+        est = cls(p, q0=q0, frame=frame.upper())
+        use_mag = "mag" in imu.picks
+        meta = _metadata("estimate", estimator=estimator, frame=frame.upper(), mode="9D" if use_mag else "6D")
+        with table_writer(output, out.format, meta) as w:
+            for chunk in _chunks_with_progress(imu, chunk_rows, progress):
+                timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
+                e = est.update(chunk.gyro, chunk.acc, chunk.mag if use_mag else None, **timing, **chunk.extra)
+                w.write(attitude_columns(chunk.t, e.q, out, e.bias, e.flags))
+        report = Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
+        report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, output frame {frame.upper()}")
+        return report
+
+
+_QUAT_NAMES = (
+    ("qw", "qx", "qy", "qz"),
+    ("q_w", "q_x", "q_y", "q_z"),
+    ("quat_w", "quat_x", "quat_y", "quat_z"),
+    ("q0", "q1", "q2", "q3"),
+    ("w", "x", "y", "z"),
+)
+_QUAT_ARRAYS = ("q", "quat", "quaternion", "quaternions", "opt_quat", "orientation")
+
+
+def _representation_fields(fields: dict, rep: str, angles: Angles, given: str | None) -> tuple:
+    from .columns import describe_fields, pick_vector
+
+    width = REPRESENTATIONS[rep]
+    if given:
+        return pick_vector(given, fields, "--columns", width=width).fields
+    candidates = [tuple(column_names(rep, angles))]
+    if rep == "quat":
+        candidates += list(_QUAT_NAMES)
+    for names in candidates:
+        if all(fields.get(n) == 1 for n in names):
+            return names
+    for name, w in fields.items():
+        if w == width and (rep != "quat" or name.split("/")[-1].lower() in _QUAT_ARRAYS):
+            return (name,)
+    raise ValueError(
+        f"no {rep} columns found (looked for {', '.join(candidates[0])}); name them with --columns.  The file has: "
+        f"{describe_fields(fields)}"
+    )
+
+
+def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angles, angles_out: Angles):
+    """Convert an (N, width) array between representations; rows with NaN stay NaN (unknown attitudes).
+
+    Parameters
+    ----------
+    values : numpy.ndarray, shape (N, REPRESENTATIONS[source])
+        Input rows.
+    source, target : str
+        Keys of :data:`strapdown.io.tables.REPRESENTATIONS`.
+    angles_in, angles_out : Angles
+        Sequences and units of the input and output.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, REPRESENTATIONS[target])
+        The converted rows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.pipeline import convert_values
+    >>> from strapdown.io.tables import Angles
+    >>> convert_values(np.array([[90.0, 0, 0], [np.nan, 0, 0]]), "euler", "quat", Angles(), Angles()).round(6)
+    array([[0.707107, 0.      , 0.      , 0.707107],
+           [     nan,      nan,      nan,      nan]])
+    """
+    ok = np.isfinite(values).all(axis=1)
+    out = np.full((values.shape[0], REPRESENTATIONS[target]), np.nan)
+    if ok.any():
+        q = from_values(source, values[ok], angles_in)
+        out[ok] = to_values(target, q, angles_out)
+    return out
+
+
+def convert_file(
+    path,
+    output=None,
+    *,
+    source: str = "quat",
+    target: str = "euler",
+    columns: str | None = None,
+    time_column: str | None = None,
+    angles_in: Angles | None = None,
+    angles_out: Angles | None = None,
+    format: str | None = None,
+    out_format: str | None = None,
+    chunk_rows: int = CHUNK_ROWS,
+    progress: Progress | None = None,
+) -> Report:
+    """Convert the attitudes in a file from one representation to another, streaming.
+
+    Parameters
+    ----------
+    path : path-like
+        CSV, Parquet, HDF5 or MATLAB file.
+    output : path-like, optional
+        Output file; by default ``<stem>.convert.csv`` (``.parquet`` for Parquet input) beside the input.
+    source, target : str
+        Keys of :data:`strapdown.io.tables.REPRESENTATIONS`.
+    columns : str, optional
+        The input columns, comma-separated, or one (N, k) array; by default the names this package writes
+        (``qw,qx,qy,qz``, ``yaw_deg,pitch_deg,roll_deg``, ...) or, for quaternions, common alternatives.
+    time_column : str, optional
+        A column copied to the output first; by default a detected time column, if any.
+    angles_in, angles_out : Angles, optional
+        Euler sequence, unit and range of input and output (default: ``Angles()``, ZYX in degrees).
+    format, out_format : str, optional
+        Formats when the suffixes do not tell them.
+    chunk_rows : int
+        Rows per chunk.
+    progress : callable, optional
+        Called with (rows done, total rows or None) after each chunk.
+
+    Returns
+    -------
+    Report
+        Files, rows and time taken.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import convert_file, read_table, write_table
+    >>> path = write_table(pathlib.Path(tempfile.mkdtemp()) / "q.csv",
+    ...                    {"t": np.array([0.0, 1.0]), "qw": np.array([1.0, 0.0]), "qx": np.zeros(2),
+    ...                     "qy": np.zeros(2), "qz": np.array([0.0, 1.0])})
+    >>> table = read_table(convert_file(path, target="rotvec").output)
+    >>> list(table), table["rotvec_z_deg"].round(9)
+    (['t', 'rotvec_x_deg', 'rotvec_y_deg', 'rotvec_z_deg'], array([  0., 180.]))
+    """
+    from .columns import detect_time, pick_vector
+
+    t_start = time.perf_counter()
+    angles_in, angles_out = angles_in or Angles(), angles_out or Angles()
+    output = _output_path(path, output, "convert", out_format)
+    names_out = column_names(target, angles_out)
+    with open_source(path, format) as src:
+        fields = _representation_fields(src.fields, source, angles_in, columns)
+        tcol = pick_vector(time_column, src.fields, "--time", width=1) if time_column else detect_time(src.fields)
+        tname = tcol.fields[0] if tcol and tcol.fields[0] not in fields else None
+        wanted = ([tname] if tname else []) + list(fields)
+        done = 0
+        meta = _metadata("convert", source=source, target=target)
+        with table_writer(output, out_format, meta) as w:
+            for _, cols in src.chunks(wanted, chunk_rows):
+                values = cols[fields[0]] if len(fields) == 1 else np.column_stack([cols[f] for f in fields])
+                converted = convert_values(values, source, target, angles_in, angles_out)
+                table = {tname: cols[tname]} if tname else {}
+                table.update(zip(names_out, converted.T, strict=True))
+                w.write(table)
+                done += len(values)
+                if progress is not None:
+                    progress(done, src.rows)
+        return Report(Path(path), output, w.rows, time.perf_counter() - t_start, f"{source}: {','.join(fields)}")
+
+
+_IMUS = ("ideal", "consumer", "tactical")
+
+
+def simulate_file(
+    output,
+    *,
+    scenario: str = "hammerhead-loop",
+    rate: float = 100.0,
+    gyro: str = "average",
+    imu: str = "ideal",
+    seed: int = 0,
+    reference: str = "ENU",
+    body: str = "FLU",
+    duration: float | None = None,
+    gyro_unit: str = "rad/s",
+    acc_unit: str = "m/s2",
+    mag_unit: str = "uT",
+    truth: bool = True,
+    format: str | None = None,
+) -> Report:
+    """Write a simulated IMU log with its true attitude (:mod:`strapdown.simulate`) to a file.
+
+    Row k holds time ``t[k]`` (the start of sample k's step), the gyro sample (rate, mean rate, or angle
+    increment per ``gyro``), the mean specific force over the step (or the instantaneous one for ``gyro="rate"``),
+    the magnetometer, and the true attitude at ``t[k]`` (``qw_true``, ...): exactly what :func:`integrate_file`
+    computes for that row.
+
+    Parameters
+    ----------
+    output : path-like
+        CSV, Parquet, HDF5 or .mat file.
+    scenario : str
+        A key of :data:`strapdown.simulate.scenarios.SCENARIOS`.
+    rate : float
+        Sample rate, Hz.
+    gyro : {"rate", "average", "increment", "rotvec"}
+        What a gyro sample is (:func:`strapdown.simulate.sample`).
+    imu : {"ideal", "consumer", "tactical"}
+        Sensor errors (:class:`strapdown.simulate.ImuModel` presets).
+    seed : int
+        Seed of the sensor errors.
+    reference, body : str
+        Frames of the truth and the readings.
+    duration : float, optional
+        Seconds to simulate (the whole scenario by default).
+    gyro_unit, acc_unit, mag_unit : str
+        Units of the written readings (:data:`strapdown.io.units.UNITS`).
+    truth : bool
+        Write the true attitude.
+    format : str, optional
+        When the suffix does not tell it.
+
+    Returns
+    -------
+    Report
+        The file and its rows.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from strapdown.io import read_table, simulate_file
+    >>> report = simulate_file(pathlib.Path(tempfile.mkdtemp()) / "sim.parquet", scenario="coning", duration=1.0)
+    >>> report.rows, list(read_table(report.output))[:4]
+    (100, ['t', 'gx', 'gy', 'gz'])
+    """
+    from ..simulate import ImuModel, sample
+    from ..simulate.scenarios import scenario as make
+    from .units import scale
+
+    t_start = time.perf_counter()
+    if imu not in _IMUS:
+        raise ValueError(f"imu must be one of {', '.join(_IMUS)}, got {imu!r}")
+    model = {"ideal": ImuModel.ideal, "consumer": ImuModel.consumer_mems, "tactical": ImuModel.tactical}[imu]()
+    data = sample(
+        make(scenario), rate, gyro=gyro, imu=model, seed=seed, reference=reference, body=body, duration=duration
+    )
+    n = data.gyro.shape[0]
+    acc = data.acc
+    if gyro in ("increment", "rotvec"):
+        acc = acc / np.diff(data.t)[:, None]  # velocity increments -> mean specific force: acc is always m/s²
+    cols = {"t": data.t[:n]}
+    for prefix, values, kind, unit in (("g", data.gyro, "gyro", gyro_unit), ("a", acc, "acc", acc_unit)):
+        cols.update({f"{prefix}{a}": values[:, i] / scale(kind, unit) for i, a in enumerate("xyz")})
+    cols.update({f"m{a}": data.mag[:, i] / scale("mag", mag_unit) for i, a in enumerate("xyz")})
+    if truth:
+        cols.update({f"{c}_true": data.q_true[:n, i] for i, c in enumerate(("qw", "qx", "qy", "qz"))})
+    meta = _metadata(
+        "simulate",
+        scenario=scenario,
+        rate_hz=rate,
+        gyro_input=data.gyro_input,
+        reference=reference,
+        body=body,
+        imu=imu,
+        seed=seed,
+    )
+    from .writers import write_table
+
+    path = write_table(output, cols, format, meta)
+    return Report(None, path, n, time.perf_counter() - t_start, f"{scenario}, {gyro} gyro at {rate:g} Hz, {imu} IMU")

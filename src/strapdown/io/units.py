@@ -1,0 +1,171 @@
+"""Units of IMU columns: names and aliases, conversion to SI, and the checks that catch a wrong declaration.
+
+The library computes in SI (rad/s, m/s², seconds); the magnetometer only matters by direction but is still
+converted to µT so that its plausibility can be checked.  A declared unit that the data contradict (a gyro in
+"rad/s" turning faster than any MEMS gyro can measure, an accelerometer in "m/s2" reading 1 at rest) is an
+error with the fix in the message: silently integrating degrees as radians gives nonsense that looks fine.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["GRAVITY", "UNITS", "check_plausible", "parse_unit", "scale"]
+
+GRAVITY = 9.80665
+
+#: Canonical unit names per quantity, with the factor that takes a value to SI (µT for the magnetometer).
+UNITS: dict[str, dict[str, float]] = {
+    "gyro": {"rad/s": 1.0, "deg/s": math.pi / 180},
+    "acc": {"m/s2": 1.0, "g": GRAVITY, "mg": GRAVITY / 1000},
+    "mag": {"uT": 1.0, "gauss": 100.0, "nT": 1e-3, "mT": 1000.0},
+    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9},
+}
+
+# spellings met in headers and on command lines, compared after _norm (lower case, letters and digits only)
+_ALIASES: dict[str, dict[str, str]] = {
+    "gyro": {
+        "rads": "rad/s",
+        "radpers": "rad/s",
+        "radsec": "rad/s",
+        "rad": "rad/s",
+        "degs": "deg/s",
+        "degpers": "deg/s",
+        "degsec": "deg/s",
+        "dps": "deg/s",
+        "deg": "deg/s",
+    },
+    "acc": {"ms2": "m/s2", "mps2": "m/s2", "mss": "m/s2", "mpss": "m/s2", "g": "g", "mg": "mg"},
+    "mag": {"ut": "uT", "microtesla": "uT", "gauss": "gauss", "g": "gauss", "nt": "nT", "mt": "mT"},
+    "time": {"s": "s", "sec": "s", "seconds": "s", "ms": "ms", "us": "us", "ns": "ns"},
+}
+
+
+def _norm(text: str) -> str:
+    text = text.lower().replace("µ", "u").replace("μ", "u").replace("²", "2")
+    return "".join(c for c in text if c.isascii() and c.isalnum())
+
+
+def parse_unit(kind: str, text: str, *, strict: bool = True) -> str | None:
+    """The canonical name of a unit of ``kind`` ("gyro", "acc", "mag", "time") from any common spelling.
+
+    Parameters
+    ----------
+    kind : {"gyro", "acc", "mag", "time"}
+        The quantity.
+    text : str
+        The unit as written: ``"deg/s"``, ``"dps"``, ``"m/s^2"``, ``"µT"``, ``"G"``, ...
+    strict : bool
+        Raise ValueError for an unknown unit (else return None).
+
+    Returns
+    -------
+    str or None
+        A key of ``UNITS[kind]``.
+
+    Examples
+    --------
+    >>> from strapdown.io.units import parse_unit
+    >>> parse_unit("gyro", "dps"), parse_unit("acc", "m/s^2"), parse_unit("mag", "µT")
+    ('deg/s', 'm/s2', 'uT')
+    """
+    found = _ALIASES[kind].get(_norm(text))
+    if found is None and strict:
+        raise ValueError(f"unknown {kind} unit {text!r}; use one of {', '.join(UNITS[kind])}")
+    return found
+
+
+def scale(kind: str, unit: str) -> float:
+    """The factor taking values of ``unit`` to SI (µT for ``"mag"``).
+
+    Parameters
+    ----------
+    kind : {"gyro", "acc", "mag", "time"}
+        The quantity.
+    unit : str
+        Any spelling :func:`parse_unit` knows.
+
+    Returns
+    -------
+    float
+        Multiply the file's values by it.
+
+    Examples
+    --------
+    >>> from strapdown.io.units import scale
+    >>> scale("acc", "g"), scale("time", "ms")
+    (9.80665, 0.001)
+    """
+    return UNITS[kind][parse_unit(kind, unit)]
+
+
+# A MEMS gyro's largest range is about ±2000°/s (35 rad/s); human and vehicle motion stays well below it.
+_GYRO_MAX = 35.0
+# Typical ranges of |value| in each declared unit, to say which unit a wrong declaration probably is.
+_ACC_AT_REST = {"m/s2": (6.0, 14.0), "g": (0.6, 1.4), "mg": (600.0, 1400.0)}
+_EARTH_FIELD = {"uT": (15.0, 80.0), "gauss": (0.15, 0.8), "nT": (15e3, 80e3), "mT": (0.015, 0.08)}
+
+
+def check_plausible(kind: str, raw: np.ndarray, unit: str, *, rate_hz: float | None = None) -> str | None:
+    """A message when the magnitudes of ``raw`` (the file's values) contradict the declared ``unit``, else None.
+
+    The gyro check flags rates beyond any MEMS gyro's range (±2000°/s) declared as rad/s; for increments
+    give ``rate_hz`` and the increments are turned into rates.  The accelerometer and magnetometer checks
+    compare the median magnitude with gravity and the Earth's field (15-80 µT) and name the unit it fits.
+
+    Parameters
+    ----------
+    kind : {"gyro", "acc", "mag"}
+        The quantity.
+    raw : numpy.ndarray, shape (N, 3)
+        Values as read (before conversion), finite.
+    unit : str
+        The declared unit (canonical name).
+    rate_hz : float, optional
+        Sample rate, for gyro increments.
+
+    Returns
+    -------
+    str or None
+        What looks wrong and how to say otherwise.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.units import check_plausible
+    >>> check_plausible("acc", np.array([[0.0, 0.0, 1.0]] * 10), "m/s2")[:46]
+    '|acc| is about 1 m/s2 (median), gravity is 9.8'
+    >>> check_plausible("acc", np.array([[0.0, 0.0, 9.81]] * 10), "m/s2") is None
+    True
+    """
+    if raw.shape[0] == 0:
+        return None
+    sub = raw[:: max(1, raw.shape[0] // 4096)]  # a few thousand rows tell the unit; the whole chunk costs more
+    mags = np.sqrt(np.einsum("ij,ij->i", sub, sub))
+    if kind == "gyro":
+        if unit != "rad/s":
+            return None
+        rates = mags * rate_hz if rate_hz else mags
+        high = float(np.percentile(rates, 99))
+        if high > _GYRO_MAX:
+            return (
+                f"gyro magnitudes reach {high:.4g} rad/s, beyond the ±2000°/s range of any MEMS gyro: they look "
+                "like deg/s.  Pass --gyro-unit deg/s, or --no-unit-check if they really are rad/s"
+            )
+        return None
+    median = float(np.median(mags))
+    table = _ACC_AT_REST if kind == "acc" else _EARTH_FIELD
+    lo, hi = table[unit]
+    if lo <= median <= hi:
+        return None
+    fits = [u for u, (a, b) in table.items() if u != unit and a <= median <= b]
+    if not fits:
+        return None  # raw counts or an unusual field: nothing better to suggest, so no complaint
+    what = "gravity is 9.81 m/s2" if kind == "acc" else "the Earth's field is 25-65 uT"
+    option = "--acc-unit" if kind == "acc" else "--mag-unit"
+    return (
+        f"|{kind}| is about {median:.3g} {unit} (median), {what}: the values look like {fits[0]}.  "
+        f"Pass {option} {fits[0]}, or --no-unit-check if {unit} is right"
+    )

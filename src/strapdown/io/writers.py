@@ -1,0 +1,193 @@
+"""Tables written a chunk at a time to CSV, Parquet, HDF5 or MATLAB files, atomically.
+
+:func:`table_writer` is a context manager: columns go to a temporary file beside the target, which replaces
+the target only when the block ends without an error.  A crash or a bad row halfway leaves the target as it
+was (absent, or the previous version), never half written.  CSV and Parquet stream with constant memory,
+HDF5 appends to resizable datasets, and a MATLAB v5 file, which cannot be appended to, is assembled in memory
+and written at the end.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from .._files import atomic_path
+from ._deps import need
+from .readers import format_of
+
+__all__ = ["TableWriter", "table_writer", "write_table"]
+
+
+class TableWriter:
+    """Appends chunks of named columns to one file; the first chunk fixes the columns.  Use :func:`table_writer`."""
+
+    def __init__(self, path: Path, format: str, metadata: Mapping[str, str] | None = None):
+        self.path = Path(path)
+        self.format = format
+        self.metadata = dict(metadata or {})
+        self.names: list[str] | None = None
+        self.rows = 0
+        self._sink = None
+        self._parts: dict[str, list] = {}
+
+    def write(self, columns: Mapping[str, np.ndarray]) -> None:
+        """Append rows: every chunk has the same column names in the same order, each array of one length."""
+        names = list(columns)
+        if self.names is None:
+            self.names = names
+            self._open(columns)
+        elif names != self.names:
+            raise ValueError(f"columns changed between chunks: {self.names} then {names}")
+        lengths = {len(v) for v in columns.values()}
+        if len(lengths) > 1:
+            raise ValueError(f"columns of one chunk differ in length: {sorted(lengths)}")
+        n = lengths.pop() if lengths else 0
+        if n:
+            getattr(self, f"_write_{self.format}")(columns)
+        self.rows += n
+
+    def _open(self, columns) -> None:
+        if self.format == "csv":
+            self._sink = open(self.path, "wb")
+            text = io.StringIO()
+            csv.writer(text, lineterminator="\n").writerow(self.names)
+            self._sink.write(text.getvalue().encode())
+        elif self.format == "parquet":
+            pq = need("pyarrow.parquet", "writing Parquet files")
+            schema = _batch(columns).schema.with_metadata(self.metadata)
+            # dictionaries pay for repeated values (flags), not for measurements: trying them costs time and memory
+            small = [n for n, v in columns.items() if np.asarray(v).dtype.itemsize == 1]
+            self._sink = pq.ParquetWriter(str(self.path), schema, compression="snappy", use_dictionary=small or False)
+        elif self.format == "hdf5":
+            h5py = need("h5py", "writing HDF5 files")
+            self._sink = h5py.File(str(self.path), "w", track_order=True)  # columns read back in order
+            for key, value in self.metadata.items():
+                self._sink.attrs[key] = value
+            for name, v in columns.items():
+                self._sink.create_dataset(name, shape=(0,), maxshape=(None,), dtype=v.dtype, chunks=(65536,))
+
+    def _write_csv(self, columns) -> None:
+        pc = need("pyarrow.csv", "writing CSV files")
+        pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
+
+    def _write_parquet(self, columns) -> None:
+        self._sink.write_batch(_batch(columns))
+
+    def _write_hdf5(self, columns) -> None:
+        for name, v in columns.items():
+            ds = self._sink[name]
+            ds.resize((self.rows + len(v),))
+            ds[self.rows :] = v
+
+    def _write_mat(self, columns) -> None:
+        for name, v in columns.items():
+            self._parts.setdefault(name, []).append(np.asarray(v))
+
+    def close(self) -> None:
+        """Finish the file (a MATLAB file is written here)."""
+        if self.format == "mat":
+            sio = need("scipy.io", "writing MATLAB files")
+            data = {n: np.concatenate(self._parts.get(n, [])) for n in self.names or []}
+            data.update({k: _number(v) for k, v in self.metadata.items()})
+            with open(self.path, "wb") as f:
+                sio.savemat(f, data, oned_as="column")
+        elif self._sink is not None:
+            self._sink.close()
+        elif self.format in ("csv", "parquet", "hdf5"):
+            self.path.write_bytes(b"")  # no chunk at all: an empty file rather than none
+        self._sink = None
+
+
+def _number(text: str):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def _batch(columns: Mapping[str, np.ndarray]):
+    pa = need("pyarrow", "writing tables")
+    return pa.record_batch([pa.array(np.ascontiguousarray(v)) for v in columns.values()], names=list(columns))
+
+
+@contextmanager
+def table_writer(path, format: str | None = None, metadata: Mapping[str, str] | None = None) -> Iterator[TableWriter]:
+    """A :class:`TableWriter` on a temporary file that replaces ``path`` when the block succeeds.
+
+    Parameters
+    ----------
+    path : path-like
+        The file to write.
+    format : {"csv", "parquet", "hdf5", "mat"}, optional
+        Overrides the suffix of ``path``.
+    metadata : mapping of str to str, optional
+        Stored with the table: Parquet schema metadata, HDF5 root attributes, MATLAB variables.
+
+    Yields
+    ------
+    TableWriter
+        Call ``write({name: array, ...})`` for each chunk.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import table_writer
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "out.csv"
+    >>> with table_writer(path) as w:
+    ...     w.write({"t": np.array([0.0, 0.5]), "x": np.array([1.0, 2.0])})
+    ...     w.write({"t": np.array([1.0]), "x": np.array([3.0])})
+    >>> print(path.read_text())
+    t,x
+    0,1
+    0.5,2
+    1,3
+    <BLANKLINE>
+    """
+    fmt = format_of(path, format)
+    with atomic_path(path) as tmp:
+        writer = TableWriter(tmp, fmt, metadata)
+        try:
+            yield writer
+            writer.close()
+        finally:
+            if writer._sink is not None:  # an error inside the block: release the file before it is deleted
+                writer._sink.close()
+
+
+def write_table(path, columns: Mapping[str, np.ndarray], format: str | None = None, metadata=None) -> Path:
+    """Write named columns to a CSV, Parquet, HDF5 or MATLAB file in one go, atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    columns : mapping of str to numpy.ndarray
+        Equal-length 1-D arrays, in column order.
+    format : {"csv", "parquet", "hdf5", "mat"}, optional
+        Overrides the suffix of ``path``.
+    metadata : mapping of str to str, optional
+        Stored with the table (see :func:`table_writer`).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import open_source, write_table
+    >>> path = write_table(pathlib.Path(tempfile.mkdtemp()) / "x.parquet", {"gx": np.arange(3.0)})
+    >>> with open_source(path) as src:
+    ...     next(src.chunks(["gx"], 10))[1]["gx"]
+    array([0., 1., 2.])
+    """
+    with table_writer(path, format, metadata) as w:
+        w.write(columns)
+    return Path(path)

@@ -42,6 +42,8 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_integrate.py
 	$(BIN)/python benchmarks/bench_wahba.py
 	$(BIN)/python benchmarks/bench_estimators.py
+	$(BIN)/python benchmarks/bench_attitude.py
+	$(BIN)/python benchmarks/bench_io.py
 
 clean:
 	rm -rf $(VENV) build dist .pytest_cache .ruff_cache .hypothesis

@@ -64,12 +64,14 @@ def test_demo_fuses_the_flight(demo):
     stdout, _ = demo
     rows = {}
     for line in stdout.splitlines():
-        for label in ("gyro only (exact)", "TiltEstimator, known acc.", "TiltEstimator 6D", "Madgwick 9D"):
+        labels = ("gyro only (exact)", "Attitude 9D, known acc.", "TiltEstimator, known acc.", "TiltEstimator 6D")
+        for label in (*labels, "Madgwick 9D"):
             if line.startswith(label):
                 rows[label] = [float(x) for x in line[len(label) :].split()[:2]]
-    assert len(rows) == 4
+    assert len(rows) == 5
     # with the kinematic acceleration the tilt beats the gyro alone; without it, lift is taken for gravity
     assert rows["TiltEstimator, known acc."][0] < 0.5 * rows["gyro only (exact)"][0]
+    assert rows["Attitude 9D, known acc."][0] < 0.5 * rows["gyro only (exact)"][0]
     assert rows["TiltEstimator 6D"][0] > rows["TiltEstimator, known acc."][0]
 
 

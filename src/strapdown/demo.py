@@ -5,8 +5,9 @@
 3. An aerobatic show with a realistic consumer MEMS IMU: every method, the table, plots and a CSV in ``out/``.
    Gyro errors dominate there.
 4. The fusion filters on the same flight.  In coordinated flight the accelerometer does not see gravity, so
-   filters that trust it fail; the TiltEstimator given the kinematic acceleration (as air data would supply it)
-   tracks the tilt down to the accelerometer's own bias and learns the gyro bias.
+   filters that trust it fail; given the kinematic acceleration (as air data would supply it), the
+   AttitudeEstimator and the TiltEstimator track the tilt down to the accelerometer's own bias and learn the
+   gyro bias.  The CSV's fused columns are the AttitudeEstimator's.
 """
 
 from __future__ import annotations
@@ -196,7 +197,7 @@ def fusion_on_flight(data, ideal, gyro_bias) -> tuple[str, dict]:
     estimates : dict
         Attitude estimates (N, 4) by row label, NED.
     """
-    from .fusion import Complementary, Madgwick, Mahony, TiltEstimator
+    from .fusion import AttitudeEstimator, Complementary, Madgwick, Mahony, TiltEstimator
     from .metrics import attitude_errors
     from .quaternion import rotate
 
@@ -206,7 +207,11 @@ def fusion_on_flight(data, ideal, gyro_bias) -> tuple[str, dict]:
     known = ideal.acc + rotate(q_mid * [1.0, -1.0, -1.0, -1.0], [0.0, 0.0, 9.80665])  # f - g in body axes, NED
     runs = {
         "gyro only (exact)": (None, data.integrate("exact")[1:]),
+        "Attitude 9D, known acc.": AttitudeEstimator(frame="NED").update(
+            data.gyro, data.acc, data.mag, dt=dt, known_acc=known
+        ),
         "TiltEstimator, known acc.": TiltEstimator(frame="NED").update(data.gyro, data.acc, dt=dt, known_acc=known),
+        "Attitude 9D": AttitudeEstimator(frame="NED").update(data.gyro, data.acc, data.mag, dt=dt),
         "TiltEstimator 6D": TiltEstimator(frame="NED").update(data.gyro, data.acc, dt=dt),
         "Madgwick 9D": Madgwick(frame="NED").update(data.gyro, data.acc, data.mag, dt=dt),
         "Mahony 9D": Mahony(frame="NED").update(data.gyro, data.acc, data.mag, dt=dt),
@@ -227,8 +232,8 @@ def fusion_on_flight(data, ideal, gyro_bias) -> tuple[str, dict]:
     lines.append(f"{'(true gyro bias)':27} {'':7} {'':7}   {_triple(np.degrees(gyro_bias))}")
     lines.append(
         "In coordinated flight the accelerometer reads lift, not gravity: the filters that trust it are pulled off."
-        "\nGiven the kinematic acceleration (air data; the simulator's truth here) the TiltEstimator holds the tilt"
-        " to\nthe accelerometer's own bias (10-20 mg, about 1°) and learns the gyro bias on every axis."
+        "\nGiven the kinematic acceleration (air data; the simulator's truth here) the estimators hold the tilt to"
+        " the\naccelerometer's own bias (10-20 mg, about 1°) and learn the gyro bias on every axis."
     )
     return "\n".join(lines), estimates
 
@@ -281,7 +286,7 @@ def run(out_dir="out", echo=print) -> list[Path]:
     from .quaternion import angle_between
 
     # the estimate after sample k belongs to time t[k + 1]; there is none at t[0]
-    fused = np.vstack([np.full((1, 4), np.nan), estimates["TiltEstimator, known acc."]])
+    fused = np.vstack([np.full((1, 4), np.nan), estimates["Attitude 9D, known acc."]])
     fused_error = np.r_[np.nan, angle_between(fused[1:], data.q_true[1:])]
 
     q = cmp.result("exact").q

@@ -240,3 +240,18 @@ def test_the_magnetometer_moves_the_heading_only():
     incl6, incl9 = (attitude_errors(e.q, d.q_true[1:])["inclination"] for e in (six, nine))
     np.testing.assert_allclose(incl9, incl6, atol=1e-9)
     assert np.isfinite(nine.q).all()
+
+
+def test_known_acceleration_is_subtracted():
+    # the wheelchair driving and turning: its centripetal and speed-change accelerations tilt the estimate unless
+    # given (wheel odometry would give them; here the simulator's truth)
+    d = sim(RockingPlatform(duration=120.0))
+    q_mid = d.q_true[1:] + d.q_true[:-1]
+    q_mid /= np.linalg.norm(q_mid, axis=1, keepdims=True)
+    known = d.acc - Rotation.from_quat(q_mid[:, [1, 2, 3, 0]]).inv().apply([0.0, 0.0, 9.80665])
+    plain = attitude(d.gyro, d.acc, dt=0.01)
+    aided = attitude(d.gyro, d.acc, dt=0.01, known_acc=known)
+    incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][3000:])) for e in (plain, aided)]
+    assert incl[1] < 0.1 < 0.3 < incl[0]
+    with pytest.raises(ValueError, match="known_acc must have the shape of acc"):
+        attitude(d.gyro, d.acc, dt=0.01, known_acc=known[:10])

@@ -210,8 +210,9 @@ class AttitudeEstimator(Estimator):
 
     Notes
     -----
-    ``update(gyr, acc, mag=None, *, dt=None, t=None)``: gyro in rad/s (finite), accelerometer in m/s², magnetic
-    field in any unit; a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.  The
+    ``update(gyr, acc, mag=None, *, dt=None, t=None, known_acc=None)``: gyro in rad/s (finite), accelerometer
+    in m/s², magnetic field in any unit; a NaN row in ``acc`` or ``mag`` means no sample of that sensor then;
+    ``known_acc`` is a kinematic acceleration to subtract from the accelerometer.  The
     :class:`~strapdown.fusion.Estimate` carries ``q``, ``bias`` (rad/s), ``flags`` (``FLAG_REST``,
     ``FLAG_ACC_REJECTED`` for a missing accelerometer sample, ``FLAG_MAG_REJECTED`` while the field is
     disturbed) and ``extra["bias_sigma"]``, the bias's standard deviation per axis (rad/s).  ``.state`` reads and
@@ -233,6 +234,37 @@ class AttitudeEstimator(Estimator):
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or AttitudeParams(), q0=q0, frame=frame)
+
+    def update(self, gyr, acc, mag=None, *, dt=None, t=None, known_acc=None) -> Estimate:
+        """Process a chunk of samples; any chunking gives the same result.
+
+        Parameters
+        ----------
+        gyr : array_like, shape (N, 3)
+            Angular rate, rad/s.
+        acc : array_like, shape (N, 3)
+            Specific force, m/s² (NaN rows: no sample).
+        mag : array_like, shape (N, 3), optional
+            Magnetic field, any unit (NaN rows: no sample); 9D when given.
+        dt, t : optional
+            Seconds per sample, or sample times.
+        known_acc : array_like, shape (N, 3), optional
+            Kinematic acceleration to subtract from ``acc``, sensor axes, m/s²: for a body whose acceleration is
+            known from elsewhere (air data, wheel speed, GNSS), e.g. an aircraft in a coordinated turn, where the
+            accelerometer alone reads lift, not gravity.
+
+        Returns
+        -------
+        Estimate
+            Attitudes, bias, its standard deviation (``extra["bias_sigma"]``) and flags.
+        """
+        if known_acc is not None:
+            a = np.asarray(acc, dtype=np.float64)
+            known = _v.vectors(known_acc, "known_acc", dtype=np.float64)
+            if known.shape != a.shape:
+                raise ValueError(f"known_acc must have the shape of acc {a.shape}, got {known.shape}")
+            acc = a - known
+        return super().update(gyr, acc, mag, dt=dt, t=t)
 
     # ----------------------------------------------------------------------------------------------------
     @property
@@ -297,7 +329,16 @@ class AttitudeEstimator(Estimator):
 
 
 def attitude(
-    gyr, acc, mag=None, *, dt=None, t=None, params: AttitudeParams | None = None, q0=None, frame: str = "ENU"
+    gyr,
+    acc,
+    mag=None,
+    *,
+    dt=None,
+    t=None,
+    params: AttitudeParams | None = None,
+    q0=None,
+    frame: str = "ENU",
+    known_acc=None,
 ) -> Estimate:
     """Run the AttitudeEstimator over whole arrays (the batch form of :class:`AttitudeEstimator`).
 
@@ -317,6 +358,8 @@ def attitude(
         Initial attitude.
     frame : str
         Reference frame.
+    known_acc : array_like, shape (N, 3), optional
+        Kinematic acceleration to subtract from ``acc``, m/s².
 
     Returns
     -------
@@ -331,7 +374,7 @@ def attitude(
     >>> est.q[-1].round(12)
     array([1., 0., 0., 0.])
     """
-    return AttitudeEstimator(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t)
+    return AttitudeEstimator(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t, known_acc=known_acc)
 
 
 def _reverse(gyr, acc, mag, dt, t):

@@ -29,6 +29,8 @@ How it works
    see on a level platform.
 6. Offline (:func:`attitude_offline`).  The recording runs forward and backward in time with time constants
    ``offline_time_factor`` times longer; their lags are equal and opposite, so their weighted mean cancels them.
+   With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed forward
+   and backward in time, with the samples either pass found disturbed left out.
 
 Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
 Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.

@@ -8,9 +8,9 @@
    progress bar off) and reads its wall time and its peak resident memory from ``wait4`` (the same figure as
    ``/usr/bin/time -v``).  The claim: peak RSS below 1 GiB whatever the file size.
 3. The reference, in the same run: ``strapdown.integrate(gyro, t=t)`` on the same samples held in memory (the
-   arrays are loaded first and not timed), so the ratio says what streaming from and to files costs against
-   the library alone.  ``--reference-n`` integrates only the first N samples in memory when the whole file
-   would not fit (the figure is then samples/s on N); by default all n.
+   arrays are loaded first and not timed; best of two calls), so the ratio says what streaming from and to
+   files costs against the library alone.  ``--reference-n`` integrates only the first N samples in memory
+   when the whole file would not fit (the figure is then samples/s on N); by default all n.
 4. Checks that the file's last attitude equals the in-memory one (angle < 1e-9 rad) when both cover all n.
 
 Also reports ``strapdown --help`` wall time (best of 5).  Big files go under ``--dir`` and are deleted at the
@@ -143,9 +143,14 @@ def main() -> None:
 
         t, gyro = load(log, n_ref)
         sd.integrate(gyro[:1000], t=t[:1001])  # numba kernels loaded
-        t0 = time.perf_counter()
-        q = sd.integrate(gyro[:-1], t=t)
-        results["memory_seconds"] = time.perf_counter() - t0
+        # best of two: the first call also pays the kernel's first touch of its output pages
+        best = np.inf
+        for _ in range(2):
+            q = None
+            t0 = time.perf_counter()
+            q = sd.integrate(gyro[:-1], t=t)
+            best = min(best, time.perf_counter() - t0)
+        results["memory_seconds"] = best
         results["memory_samples_per_s"] = (n_ref - 1) / results["memory_seconds"]
         if n_ref == n:
             results["last_attitude_angle_rad"] = float(sd.angle_between(q[-1], last_attitude(out)))

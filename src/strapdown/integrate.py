@@ -367,8 +367,8 @@ class AttitudeIntegrator:
         if not (steps > 0).all():
             i = int(np.flatnonzero(~(steps > 0))[0])
             raise ValueError(
-                f"t is not strictly increasing at sample {st.steps_in + i}: {full[i] + self.t0!r} -> "
-                f"{full[i + 1] + self.t0!r}"
+                f"t is not strictly increasing at sample {st.steps_in + i}: {float(full[i] + self.t0)!r} -> "
+                f"{float(full[i + 1] + self.t0)!r}"
             )
         return steps, ends, float(ends[-1]) if n else st.t_end
 

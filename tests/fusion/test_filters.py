@@ -9,6 +9,7 @@ from scipy.spatial.transform import Rotation
 from strapdown import change_frame
 from strapdown.fusion import (
     FLAG_ACC_REJECTED,
+    AttitudeEstimator,
     Complementary,
     ComplementaryParams,
     Madgwick,
@@ -179,6 +180,22 @@ def test_chunks_and_state_give_the_same_result(cls, nine, motion):
     parts.append(g.update(motion.gyro[start:], motion.acc[start:], None if mag is None else mag[start:], dt=0.01).q)
     np.testing.assert_array_equal(np.concatenate(parts), whole.q)
     np.testing.assert_array_equal(g.attitude, whole.q[-1])
+
+
+@pytest.mark.parametrize("cls", [*FILTERS, TiltEstimator, AttitudeEstimator])
+def test_an_empty_chunk_has_the_fields_of_a_full_one(cls, motion):
+    # before the first sample and after it, so that streaming callers need no special case
+    full = cls().update(motion.gyro[:5], motion.acc[:5], dt=0.01)
+    f = cls()
+    for _ in range(2):
+        empty = f.update(motion.gyro[:0], motion.acc[:0], dt=0.01)
+        for name in ("bias", "flags"):
+            got, want = getattr(empty, name), getattr(full, name)
+            assert (got is None) == (want is None), name
+            if want is not None:
+                assert got.shape == (0, *want.shape[1:]) and got.dtype == want.dtype, name
+        assert empty.q.shape == (0, 4)
+        f.update(motion.gyro[:5], motion.acc[:5], dt=0.01)
 
 
 @pytest.mark.parametrize("cls", FILTERS)

@@ -138,6 +138,7 @@ class Estimator:
 
     natural_frame = "ENU"
     estimates_bias = False
+    reports_flags = False  # True: the Estimate carries per-sample flags
     missing_samples = False  # True: NaN rows of acc and mag mean "no sample" (sensors at different rates)
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
@@ -209,7 +210,7 @@ class Estimator:
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             before = prev if i == 0 else tt[i - 1]
-            raise ValueError(f"t is not strictly increasing at sample {i}: {before!r} -> {tt[i]!r}")
+            raise ValueError(f"t is not strictly increasing at sample {i}: {float(before)!r} -> {float(tt[i])!r}")
         if n:
             self._t_last = float(tt[-1])
         return d
@@ -263,7 +264,10 @@ class Estimator:
         return out
 
     def _empty(self) -> Estimate:
-        return Estimate(q=np.zeros((0, 4)), frame=self.frame)
+        # the same fields as a non-empty result, so that callers need no special case for an empty chunk
+        bias = np.zeros((0, 3)) if self.estimates_bias else None
+        flags = np.zeros(0, dtype=np.uint8) if self.reports_flags else None
+        return Estimate(q=np.zeros((0, 4)), frame=self.frame, bias=bias, flags=flags)
 
     # subclass hooks ------------------------------------------------------------------------------------
     def _prepare_inputs(self, n: int, **inputs) -> dict:

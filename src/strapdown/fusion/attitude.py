@@ -232,6 +232,7 @@ class AttitudeEstimator(Estimator):
 
     natural_frame = "ENU"
     estimates_bias = True
+    reports_flags = True
     missing_samples = True
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
@@ -465,6 +466,8 @@ def attitude_offline(
 
     fwd = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
     fwd6 = fwd.update(g, a, dt=dt, t=t)
+    if g.shape[0] == 0:  # validated above; nothing to smooth
+        return AttitudeEstimator(po, frame=frame).update(g, a, m, dt=dt, t=t)
     intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
     n = g.shape[0]
     if intervals is None:

@@ -68,6 +68,8 @@ class Complementary(Estimator):
     True
     """
 
+    reports_flags = True
+
     def __init__(self, params: ComplementaryParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or ComplementaryParams(), q0=q0, frame=frame)
 

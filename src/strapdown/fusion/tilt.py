@@ -312,6 +312,7 @@ class TiltEstimator(Estimator):
 
     natural_frame = "ENU"
     estimates_bias = True
+    reports_flags = True
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)

@@ -20,6 +20,7 @@ from strapdown.fusion import (
 )
 from strapdown.metrics import attitude_errors, rmse
 from strapdown.simulate import (
+    ConstantRotation,
     ImuModel,
     MagneticDisturbance,
     MagneticField,
@@ -264,3 +265,70 @@ def test_known_acceleration_is_subtracted():
     assert incl[1] < 0.1 < 0.3 < incl[0]
     with pytest.raises(ValueError, match="known_acc must have the shape of acc"):
         attitude(d.gyro, d.acc, dt=0.01, known_acc=known[:10])
+
+
+@pytest.mark.parametrize("gap_s", [1.5, 5.0])
+def test_an_accelerometer_gap_does_not_upset_the_filter(gap_s):
+    # a sensor held still; the accelerometer silent for a while: nothing happened, so nothing may change (the
+    # filter once stepped over the gap with new coefficients on old states and turned the estimate upside down)
+    q = Rotation.from_euler("ZYX", [0.0, 20.0, 10.0], degrees=True)
+    n = 6000
+    acc = np.tile(q.inv().apply([0.0, 0.0, 9.81]), (n, 1))
+    acc[1000 : 1000 + int(gap_s * 100)] = np.nan
+    est = attitude(np.zeros((n, 3)), acc, dt=0.01)
+    truth = np.tile(q.as_quat()[[3, 0, 1, 2]], (n, 1))
+    assert deg(attitude_errors(est.q, truth)["inclination"]).max() < 1e-6
+
+
+def test_a_steady_turn_is_not_rest():
+    # a turntable at 30 deg/s: gyro and accelerometer are steady, but the mean rate is no bias
+    d = sample(
+        ConstantRotation(np.radians([0.0, 0.0, 30.0]), duration=60.0),
+        100.0,
+        reference="ENU",
+        body="FLU",
+        magnetic_field=FIELD,
+    )
+    est = attitude(d.gyro, d.acc, d.mag, dt=0.01)
+    assert not (est.flags & FLAG_REST).any()
+    assert deg(np.abs(est.bias).max()) < 0.01
+    assert deg(rmse(attitude_errors(est.q, d.q_true[1:])["heading"])) < 0.5
+
+
+def test_any_first_chunk_starts_alike():
+    # 1 kHz, magnetometer at 10 Hz from the sixth row on: sample-by-sample streaming equals one call
+    d = sample(
+        RandomMotion(duration=4.0, seed=2, acceleration_scale=0.0), 1000.0, reference="ENU", body="FLU",
+        magnetic_field=FIELD,
+    )  # fmt: skip
+    mag = np.full_like(d.mag, np.nan)
+    mag[5::100] = d.mag[5::100]
+    whole = attitude(d.gyro, d.acc, mag, dt=0.001)
+    f = AttitudeEstimator()
+    ones = np.concatenate(
+        [f.update(d.gyro[i : i + 1], d.acc[i : i + 1], mag[i : i + 1], dt=0.001).q for i in range(400)]
+    )
+    np.testing.assert_array_equal(ones, whole.q[:400])
+    # the heading comes from the first field at once, not after tau_mag
+    assert deg(attitude_errors(whole.q[201:], d.q_true[202:])["heading"]).max() < 0.5  # after the first block
+
+
+def test_a_late_first_accelerometer_sample_is_turned_back_to_the_start():
+    d = sim(RandomMotion(duration=20.0, seed=3, acceleration_scale=0.0), bias=0.0)
+    acc = d.acc.copy()
+    acc[:50] = np.nan  # the accelerometer starts half a second after the gyro
+    est = attitude(d.gyro, acc, dt=0.01)
+    incl = deg(attitude_errors(est.q, d.q_true[1:])["inclination"])
+    assert incl.max() < 0.5  # measured 0.17°; taken as it was at the start, up to 40°
+
+
+def test_parameters_from_a_mapping_and_numpy_scalars():
+    g = np.zeros((50, 3))
+    a = np.tile([0.0, 0.0, 9.81], (50, 1))
+    by_name = attitude(g, a, dt=0.01, params={"tau_acc": 2.0, "update_rate": np.int64(10)})
+    np.testing.assert_array_equal(by_name.q, attitude(g, a, dt=0.01, params=AttitudeParams(2.0, update_rate=10.0)).q)
+    assert AttitudeParams(tau_acc=np.float32(3.0)).tau_acc == 3.0
+    with pytest.raises(ValueError, match="unknown AttitudeParams field"):
+        attitude_offline(g, a, dt=0.01, params={"tau": 1.0})
+    with pytest.raises(ValueError, match="dt must be a scalar or have one entry per sample"):
+        attitude_offline(g, a, dt=np.full(48, 0.01))

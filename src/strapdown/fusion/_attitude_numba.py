@@ -36,7 +36,9 @@ DIST = 98  # 1: seconds the field has been disturbed
 UND = 99  # 1: seconds the field has been undisturbed
 STARTED = 100  # 1: 1 once the regressor filter has started
 TACC = 101  # 1: seconds since the last accelerometer sample
-SIZE = 102
+AFO = 102  # 3: the accelerometer filter's last output, in I
+AFDT = 105  # 1: the interval of the filter's last step, s (0: not stepped yet)
+SIZE = 106
 
 N_REG = 14
 N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
@@ -150,10 +152,11 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
     """
     tau_acc = p[0]
-    rest_gyr2, rest_acc2, rest_time, rest_tau, t_block = p[8], p[9], p[10], p[11], p[18]
+    rest_gyr2, rest_acc2, rest_time, rest_tau, clip, t_block = p[8], p[9], p[10], p[11], p[12], p[18]
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
     f1x, f1y, f1z, f2x, f2y, f2z = s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5]
+    mx, my, mz, f_dt = s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT]
     x = s[X : X + 6].copy()
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
@@ -204,6 +207,14 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             if t_acc != last_t_acc:  # the filter steps over the time since the last accelerometer sample
                 b0, b1, b2, a1, a2 = butterworth(t_acc, tau_acc)
                 last_t_acc = t_acc
+            if f_dt <= 0.0 or not (0.5 * f_dt <= t_acc <= 2.0 * f_dt):
+                # The first step, a gap, or a new rate.  The two states of a transposed direct form II only mean
+                # something with the coefficients that made them: kept across a large change of interval they can
+                # swing the output through zero (and the estimate upside down).  Restart them in steady state at
+                # the current output instead; jitter and single dropped samples stay within the factor 2.
+                f1x, f1y, f1z = mx * (1.0 - b0), my * (1.0 - b0), mz * (1.0 - b0)
+                f2x, f2y, f2z = mx * (b2 - a2), my * (b2 - a2), mz * (b2 - a2)
+            f_dt = t_acc
             t_acc = 0.0
             ax = ax_
             ay = acc[k, 1]
@@ -235,7 +246,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         raz += rr * (az - raz)
         dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
         da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
-        if dg < rest_gyr2 and da < rest_acc2:
+        # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
+        # must also be small enough to be a bias (VQF's test against its bias clip)
+        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < clip:
             rest += dt
         else:
             rest = 0.0
@@ -293,6 +306,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
     s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5] = f1x, f1y, f1z, f2x, f2y, f2z
+    s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT] = mx, my, mz, f_dt
     s[X : X + 6] = x
     s[ACC : ACC + 24] = sums[:24]
     s[W2] = sums[24]
@@ -457,10 +471,12 @@ def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, use_mag, p,
     hz = accu[23] / t_mag
     nrm = math.sqrt(hx * hx + hy * hy + hz * hz)
     dip = math.atan2(-hz, math.sqrt(hx * hx + hy * hy))
-    if s[MREF] <= 0.0:  # first field: it is the reference
+    if s[MREF] <= 0.0:  # first field: it is the reference, and it gives the heading at once
         s[MREF], s[MREF + 1], s[MCUR], s[MCUR + 1] = nrm, dip, nrm, dip
         for i in range(7):
             s[V7 + i] = accu[14 + i] / t_mag
+        # no slow convergence from the start (nor from a start before the magnetometer's first sample)
+        s[DELTA] = math.atan2(hx, hy)
     s[MCUR] += kcur * (nrm - s[MCUR])
     s[MCUR + 1] += kcur * (dip - s[MCUR + 1])
     cn, cdp = s[MCUR], s[MCUR + 1]

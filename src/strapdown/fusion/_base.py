@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..frames import frame_quaternion
-from ..quaternion import multiply
+from ..quaternion import multiply, rotate
 
 __all__ = ["FLAG_ACC_REJECTED", "FLAG_INVERTED", "FLAG_MAG_REJECTED", "FLAG_REST", "Estimate", "Estimator"]
 
@@ -140,6 +140,7 @@ class Estimator:
     estimates_bias = False
     reports_flags = False  # True: the Estimate carries per-sample flags
     missing_samples = False  # True: NaN rows of acc and mag mean "no sample" (sensors at different rates)
+    heading_from_first_field = False  # True: 9D may start before the first magnetometer sample
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -250,13 +251,13 @@ class Estimator:
                 return self._empty()
             self._use_mag = m is not None
             if self._q0 is None:
-                q_init = self._initial(a, m, extra_in)
+                q_init = self._initial(g, a, m, dts, extra_in)
                 # the attitude from the first sample is the one at its end: its gyro reading has nothing left to do
                 dts = dts.copy()
                 dts[0] = 0.0
             else:
                 q_init = multiply(self._to_in, self._q0)
-            self._state = self._new_state(q_init / np.linalg.norm(q_init), a, m, dts, extra_in)
+            self._state = self._new_state(q_init / np.linalg.norm(q_init), g, a, m, dts, extra_in)
         out = self._run(g, a, m, dts, extra_in)
         if out.q.size and self.frame != self.natural_frame:
             out.q = multiply(self._to_out, out.q, check=False)
@@ -275,20 +276,39 @@ class Estimator:
             raise ValueError(f"unexpected inputs: {', '.join(inputs)}")
         return {}
 
-    def _initial(self, acc, mag, extra_in) -> np.ndarray:
+    def _initial(self, gyr, acc, mag, dts, extra_in) -> np.ndarray:
         """Initial attitude in the natural frame from the first sample: tilt from acc, heading from mag.
 
-        With missing samples allowed, the first accelerometer and magnetometer samples present are used.
+        With missing samples allowed, the first accelerometer and magnetometer samples present are used, turned
+        back by the gyro to the sensor axes of the first sample (which the attitude is for).  An estimator that
+        takes its heading from the first field it gets (``heading_from_first_field``) starts from the tilt
+        alone when the first sample has no field, whatever the chunk holds, so that any chunking starts alike.
         """
-        a = acc[_first_present(acc, "acc")]
-        m = None if mag is None else mag[_first_present(mag, "mag")]
+        ka = _first_present(acc, "acc")
+        a = _back_to_first_sample(gyr, dts, ka, acc[ka])
+        m = None
+        if mag is not None and not (self.heading_from_first_field and np.isnan(mag[0, 0])):
+            km = _first_present(mag, "mag")
+            m = _back_to_first_sample(gyr, dts, km, mag[km])
         return initial_attitude(a, m, self.natural_frame)
 
-    def _new_state(self, q, acc, mag, dts, extra_in) -> dict:
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in) -> dict:
         raise NotImplementedError
 
     def _run(self, gyr, acc, mag, dts, extra_in) -> Estimate:
         raise NotImplementedError
+
+
+def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarray) -> np.ndarray:
+    """A vector read by the sensor at the end of sample k, in the sensor axes at the end of sample 0.
+
+    The sensor turns by the product of the steps 1..k: v_0 = D ⊗ v_k ⊗ D* (the bias is not known yet).
+    """
+    if k == 0:
+        return v
+    from ..integrate import integrate
+
+    return rotate(integrate(gyr[1 : k + 1], dt=dts[1 : k + 1])[-1], v)
 
 
 def _first_present(arr: np.ndarray, name: str) -> int:

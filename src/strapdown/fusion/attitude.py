@@ -42,13 +42,15 @@ range (``benchmarks/bench_attitude.py`` prints the RMSE surface over ``tau_acc``
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
+from numbers import Real
 
 import numpy as np
 
 from .. import _validate as _v
 from ..quaternion import multiply, rotate
-from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _first_present
+from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _back_to_first_sample, _first_present
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude", "attitude_offline"]
 
@@ -138,10 +140,24 @@ class AttitudeParams:
         zero_ok = {"bias_noise_rate_factor", "scale_sigma_init", "scale_noise", "bias_noise_mag", "rest_time"}
         for f in fields(self):
             v = getattr(self, f.name)
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not np.isfinite(v):
+            if not isinstance(v, Real) or isinstance(v, (bool, np.bool_)) or not np.isfinite(v):
                 raise ValueError(f"{f.name} must be a finite number, got {v!r}")
             if v < 0 or (v == 0 and f.name not in zero_ok):
                 raise ValueError(f"{f.name} must be {'non-negative' if f.name in zero_ok else 'positive'}, got {v!r}")
+
+    @classmethod
+    def of(cls, params: AttitudeParams | Mapping[str, float] | None) -> AttitudeParams:
+        """``params`` itself, the defaults for None, or the defaults with a mapping's values by name."""
+        if params is None:
+            return cls()
+        if isinstance(params, Mapping):
+            unknown = sorted(set(params) - {f.name for f in fields(cls)})
+            if unknown:
+                raise ValueError(f"unknown AttitudeParams field(s): {', '.join(unknown)}")
+            return cls(**params)
+        if not isinstance(params, cls):
+            raise TypeError(f"params must be AttitudeParams, a mapping or None, got {type(params).__name__}")
+        return params
 
     def _vector(self) -> np.ndarray:
         """The kernel's parameter vector (run() in _attitude_numba.py)."""
@@ -194,6 +210,8 @@ _LAYOUT = (
     ("mag_undisturbed_seconds", "UND", 1),
     ("started", "STARTED", 1),
     ("acc_gap_seconds", "TACC", 1),
+    ("acc_filter_output", "AFO", 3),
+    ("acc_filter_interval", "AFDT", 1),
 )
 
 
@@ -202,8 +220,8 @@ class AttitudeEstimator(Estimator):
 
     Parameters
     ----------
-    params : AttitudeParams, optional
-        Time constants, noise densities and thresholds.
+    params : AttitudeParams or mapping, optional
+        Time constants, noise densities and thresholds (a mapping overrides the defaults by name).
     q0 : array_like, shape (4,), optional
         Initial attitude (sensor to ``frame``); by default from the first accelerometer (and magnetometer)
         sample.
@@ -234,9 +252,10 @@ class AttitudeEstimator(Estimator):
     estimates_bias = True
     reports_flags = True
     missing_samples = True
+    heading_from_first_field = True
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
-        super().__init__(params or AttitudeParams(), q0=q0, frame=frame)
+        super().__init__(AttitudeParams.of(params), q0=q0, frame=frame)
 
     def update(self, gyr, acc, mag=None, *, dt=None, t=None, known_acc=None) -> Estimate:
         """Process a chunk of samples; any chunking gives the same result.
@@ -286,7 +305,7 @@ class AttitudeEstimator(Estimator):
         return None if self._state is None else np.sqrt(np.diag(self._state["covariance"])[:3])
 
     # ----------------------------------------------------------------------------------------------------
-    def _new_state(self, q, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         from . import _attitude_numba as k
 
         p = self.params
@@ -294,13 +313,12 @@ class AttitudeEstimator(Estimator):
         s[k.QG : k.QG + 4] = q
         s[k.QC] = 1.0
         s[k.EXS] = 1.0
-        a0 = acc[_first_present(acc, "acc")]
-        a_i = rotate(q, a0)
-        # the Butterworth filter in steady state at the first sample (transposed direct form II)
-        b0, _, b2, _, a2 = k.butterworth(float(dts[1] if len(dts) > 1 else 0.01), p.tau_acc)
-        s[k.AF : k.AF + 3] = a_i * (1.0 - b0)
-        s[k.AF + 3 : k.AF + 6] = a_i * (b2 - a2)
-        s[k.RESTA : k.RESTA + 3] = a0
+        ka = _first_present(acc, "acc")
+        # the filter starts in steady state at the first sample once its interval is known (AFDT = 0: the kernel
+        # restarts it at its first step), so that the first chunk's length does not matter; a first sample
+        # later than the first row is turned back to the sensor axes of the first row, which q is for
+        s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyr, dts, ka, acc[ka]))
+        s[k.RESTA : k.RESTA + 3] = acc[ka]
         s[k.MOLD] = -1.0
         cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3)
         state = {"q": q.copy(), "covariance": cov}
@@ -355,8 +373,8 @@ def attitude(
         Magnetic field, any unit (NaN rows: no sample); 9D when given.
     dt, t : optional
         Seconds per sample, or sample times.
-    params : AttitudeParams, optional
-        Parameters.
+    params : AttitudeParams or mapping, optional
+        Parameters (a mapping overrides the defaults by name).
     q0 : array_like, shape (4,), optional
         Initial attitude.
     frame : str
@@ -436,8 +454,8 @@ def attitude_offline(
     ----------
     gyr, acc, mag, dt, t, frame
         As for :func:`attitude` (the whole recording).
-    params : AttitudeParams, optional
-        Parameters (their online values; the factor is applied here).
+    params : AttitudeParams or mapping, optional
+        Parameters, their online values (the factor is applied here); a mapping overrides the defaults by name.
 
     Returns
     -------
@@ -456,18 +474,17 @@ def attitude_offline(
     from ..frames import frame_quaternion
     from ._attitude_numba import smooth_directions
 
-    p = params or AttitudeParams()
+    p = AttitudeParams.of(params)
     f = p.offline_time_factor
     po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
     a = np.asarray(acc, dtype=np.float64)
     m = None if mag is None else np.asarray(mag, dtype=np.float64)
-    gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
-
     fwd = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
-    fwd6 = fwd.update(g, a, dt=dt, t=t)
-    if g.shape[0] == 0:  # validated above; nothing to smooth
+    fwd6 = fwd.update(g, a, dt=dt, t=t)  # validates every input before anything else is done with them
+    if g.shape[0] == 0:  # nothing to smooth
         return AttitudeEstimator(po, frame=frame).update(g, a, m, dt=dt, t=t)
+    gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
     intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
     n = g.shape[0]
     if intervals is None:

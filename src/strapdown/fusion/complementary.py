@@ -73,7 +73,7 @@ class Complementary(Estimator):
     def __init__(self, params: ComplementaryParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or ComplementaryParams(), q0=q0, frame=frame)
 
-    def _new_state(self, q, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         return {"q": q.copy()}
 
     def _run(self, gyr, acc, mag, dts, extra_in):

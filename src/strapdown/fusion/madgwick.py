@@ -73,7 +73,7 @@ class Madgwick(Estimator):
     def __init__(self, params: MadgwickParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or MadgwickParams(), q0=q0, frame=frame)
 
-    def _new_state(self, q, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         return {"q": q.copy()}
 
     def _run(self, gyr, acc, mag, dts, extra_in):

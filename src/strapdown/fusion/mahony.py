@@ -72,7 +72,7 @@ class Mahony(Estimator):
     def __init__(self, params: MahonyParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or MahonyParams(), q0=q0, frame=frame)
 
-    def _new_state(self, q, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         return {"q": q.copy(), "bias": np.array(self.params.bias0, dtype=float)}
 
     def _run(self, gyr, acc, mag, dts, extra_in):

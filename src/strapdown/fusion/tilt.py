@@ -369,7 +369,7 @@ class TiltEstimator(Estimator):
                 acc_arr = acc_arr - known
         return super().update(gyr_arr, acc_arr, dt=dt, t=t)
 
-    def _new_state(self, q, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         a_i = rotate(q, acc[0])
         return {
             "q": q.copy(),  # the estimate q_c ⊗ q_g

@@ -148,3 +148,12 @@ def test_public_functions_have_examples(module):
             doc = obj.__doc__ or ""
             assert "Examples" in doc and ">>>" in doc, f"{module}.{name} has no example"
             assert "Parameters" in doc and "Returns" in doc, f"{module}.{name} lacks numpy-style sections"
+
+
+@pytest.mark.parametrize(("estimator", "name"), [("madgwick", "beta"), ("mahony", "kp"), ("tilt", "tau_acc")])
+def test_text_for_a_numeric_parameter_is_named(estimator, name):
+    from strapdown.evaluate import make_params
+
+    with pytest.raises(ValueError, match=f"{estimator} parameter {name} must be a number, got 'abc'"):
+        make_params(estimator, {name: "abc"})
+    assert make_params("madgwick", {"variant": "reference"}).variant == "reference"  # text where text belongs

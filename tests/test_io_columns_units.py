@@ -20,6 +20,9 @@ from strapdown.io.units import GRAVITY, check_plausible, parse_unit, scale
         (["ax m/s^2", "ay m/s^2", "az m/s^2"], "acc", None, "m/s2"),
         (["mag_x (µT)", "mag_y (µT)", "mag_z (µT)"], "mag", None, "uT"),
         (["bx", "by", "bz"], "mag", ("bx", "by", "bz"), None),
+        (["Gyro X [°/s]", "Gyro Y [°/s]", "Gyro Z [°/s]"], "gyro", None, "deg/s"),  # not "/s", read as rad/s
+        (["gyro_X_rad/sec", "gyro_Y_rad/sec", "gyro_Z_rad/sec"], "gyro", None, "rad/s"),
+        (["acc_x [m/s²]", "acc_y [m/s²]", "acc_z [m/s²]"], "acc", None, "m/s2"),
     ],
 )
 def test_detects_component_columns(names, kind, expected, unit):
@@ -100,3 +103,20 @@ def test_plausibility_flags_wrong_units_and_nothing_else():
     assert "look like gauss" in check_plausible("mag", field_gauss, "uT")
     assert "look like nT" in check_plausible("mag", field_gauss * 1e5, "uT")
     assert check_plausible("mag", field_gauss * 100, "uT") is None
+
+
+def test_a_unit_in_brackets_that_is_not_known_is_not_taken_for_si():
+    # passed on as written, so that using it stops with "unknown unit" instead of reading °C as rad/s
+    pick = detect_vector("gyro", dict.fromkeys(["Gyro X [°C]", "Gyro Y [°C]", "Gyro Z [°C]"], 1))
+    assert pick.unit_hint == "°C"
+    with pytest.raises(ValueError, match="unknown gyro unit '°C'"):
+        scale("gyro", pick.unit_hint)
+    # a unit of another quantity in another column's name is no concern of this one
+    assert split_name("Acc X [m/s^2]", "gyro") == ("accx", None)
+
+
+def test_a_slashed_unit_is_no_hdf5_path():
+    # "rad/sec" once left "sec" as the name, a time column; an HDF5 path still names its last segment
+    fields = dict.fromkeys(["time [s]", "gyro_X_rad/sec", "gyro_Y_rad/sec", "gyro_Z_rad/sec"], 1)
+    assert detect_time(fields).fields == ("time [s]",)
+    assert split_name("imu/t", "time") == ("t", None)

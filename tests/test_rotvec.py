@@ -78,6 +78,14 @@ def test_gibbs_closed_form(rng):
     assert rotation_angle(from_gibbs(expected, "rodrigues"), q).max() <= 1e-14
 
 
+def test_gibbs_vectors_too_long_to_square_still_give_the_rotation():
+    # [1, g] / sqrt(1 + |g|²) with g = θ/2 (Gajda 1.4): w = 2/θ, the vector part the unit axis
+    for dtype, theta in ((np.float64, 1e300), (np.float32, 1e30)):
+        q = from_gibbs(np.array([0.0, -theta, 0.0], dtype=dtype))
+        assert q.dtype == dtype
+        np.testing.assert_allclose(q, np.array([2 / theta, 0.0, -1.0, 0.0], dtype=dtype), rtol=1e-6)
+
+
 def test_gibbs_is_infinite_at_180_degrees():
     with pytest.raises(ValueError, match=r"q is a 180° rotation.*Gibbs vector is infinite"):
         as_gibbs([0.0, 0, 1, 0])

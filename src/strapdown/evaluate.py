@@ -17,6 +17,7 @@ import itertools
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
+from numbers import Real
 
 import numpy as np
 
@@ -221,7 +222,12 @@ def make_params(estimator: str, params=None):
     unknown = [k for k in params if k not in known]
     if unknown:
         raise ValueError(f"{estimator} has no parameter {', '.join(unknown)}; its parameters: {', '.join(known)}")
-    return replace(cls(), **params)
+    defaults = cls()
+    for name, value in params.items():
+        # the parameter objects check ranges, not types: text where a number belongs would fail deep inside
+        if isinstance(getattr(defaults, name), Real) and not isinstance(value, Real):
+            raise ValueError(f"{estimator} parameter {name} must be a number, got {value!r}")
+    return replace(defaults, **params)
 
 
 def _runner(estimator, params, use_mag: bool, start: str) -> tuple[Callable[[Trial], np.ndarray], str]:

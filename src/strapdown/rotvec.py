@@ -192,9 +192,12 @@ def from_gibbs(gibbs, convention: str = "gajda", *, check: bool = True) -> np.nd
     _v.choice(convention, "convention", tuple(_GIBBS_FACTOR))
     g = _v.vectors(gibbs, "gibbs", check=check) / _GIBBS_FACTOR[convention]
     out = np.empty((*g.shape[:-1], 4), dtype=g.dtype)
-    inv = 1 / np.sqrt(1 + np.einsum("...i,...i->...", g, g))
-    out[..., 0] = inv
-    out[..., 1:] = g * inv[..., None]
+    # [1, g] scaled by its largest entry first: |g|² overflows from |g| ~ 1e154 (1e19 in float32), which would
+    # give a zero "quaternion" for a rotation close to 180°
+    big = np.maximum(1, np.max(np.abs(g), axis=-1))
+    out[..., 0] = 1 / big
+    out[..., 1:] = g / big[..., None]
+    out /= np.sqrt(np.einsum("...i,...i->...", out, out))[..., None]
     return out
 
 

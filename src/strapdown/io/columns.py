@@ -25,6 +25,7 @@ _STEMS = {
 _TIME = ("t", "time", "times", "timestamp", "timestamps", "ts", "sec", "seconds", "timesec", "stamp")
 _RATE = ("rate", "samplingrate", "samplerate", "fs", "frequency", "freq", "ratehz", "samplingfrequency", "hz")
 _AXES = "xyz"
+_KINDS = ("gyro", "acc", "mag", "time")
 
 
 @dataclass(frozen=True)
@@ -71,15 +72,19 @@ def split_name(name: str, kind: str | None = None) -> tuple[str, str | None]:
     >>> split_name("Gyro X [deg/s]", "gyro"), split_name("timestamp_ns", "time"), split_name("ax", "acc")
     (('gyrox', 'deg/s'), ('timestamp', 'ns'), ('ax', None))
     """
-    kinds = (kind,) if kind else ("gyro", "acc", "mag", "time")
+    kinds = (kind,) if kind else _KINDS
     unit = None
     bracket = re.search(r"[\[(]([^\])]*)[\])]", name)
     if bracket:
-        unit = _first_unit(kinds, bracket.group(1))
+        text = bracket.group(1).strip()
+        # a bracket that names no unit of these kinds is passed on as written: used as a unit it stops with
+        # "unknown unit", where ignoring it would read "[°C]" or "[krpm]" silently as SI
+        unit = _first_unit(kinds, text) or (text if kind and _first_unit(_KINDS, text) is None else None)
         name = name[: bracket.start()] + name[bracket.end() :]
-    slashed = re.search(r"[_ \-]?([a-zµμ]+/[a-z0-9^²]+)$", name, re.IGNORECASE)  # gyro_x_deg/s, ax m/s^2
-    if unit is None and slashed and _first_unit(kinds, slashed.group(1)):
-        unit = _first_unit(kinds, slashed.group(1))
+    slashed = re.search(r"[_ \-]?([a-zµμ°]+/[a-z0-9^²]+)$", name, re.IGNORECASE)  # gyro_x_deg/s, ax m/s^2
+    if slashed and _first_unit(_KINDS, slashed.group(1)):
+        # a unit of any kind is cut off, so that "gyro_x_rad/sec" is not taken for an HDF5 path ending in "sec"
+        unit = unit or _first_unit(kinds, slashed.group(1))
         name = name[: slashed.start()]
     name = name.split("/")[-1]  # an HDF5 path: the last segment names the field
     tokens = re.findall(r"[a-z0-9]+", name.lower())

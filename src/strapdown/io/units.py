@@ -44,7 +44,8 @@ _ALIASES: dict[str, dict[str, str]] = {
 
 
 def _norm(text: str) -> str:
-    text = text.lower().replace("µ", "u").replace("μ", "u").replace("²", "2")
+    # the non-ASCII spellings of units: µT, m/s², °/s (a degree sign dropped would leave "/s", read as rad/s)
+    text = text.lower().replace("µ", "u").replace("μ", "u").replace("²", "2").replace("°", "deg").replace("º", "deg")
     return "".join(c for c in text if c.isascii() and c.isalnum())
 
 

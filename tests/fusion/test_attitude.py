@@ -332,3 +332,26 @@ def test_parameters_from_a_mapping_and_numpy_scalars():
         attitude_offline(g, a, dt=0.01, params={"tau": 1.0})
     with pytest.raises(ValueError, match="dt must be a scalar or have one entry per sample"):
         attitude_offline(g, a, dt=np.full(48, 0.01))
+
+
+def test_offline_heading_follows_a_vertical_bias_to_the_ends():
+    # a level platform: the 6D passes cannot learn the vertical bias, their heading drifts in a ramp, and the
+    # offline heading must follow it to both ends of the record rather than lag it by tau_mag times its slope
+    d = sim(RockingPlatform(duration=120.0), bias=np.radians([0.0, 0.0, 0.5]))
+    online, offline = (f(d.gyro, d.acc, d.mag, dt=0.01) for f in (attitude, attitude_offline))
+    on, off = (deg(attitude_errors(e.q, d.q_true[1:])["heading"]) for e in (online, offline))
+    assert rmse(off) < 1.0 and rmse(off) < 0.25 * rmse(on)  # measured 0.36° against 4.67° (8.3° with a plain mean)
+    assert max(off[1000], off[11000]) < 1.0  # at 10 s and 110 s
+
+
+def test_local_linear_smoothing_reproduces_a_line_through_gaps():
+    from strapdown.fusion._attitude_numba import smooth_directions
+
+    rng = np.random.default_rng(1)
+    dts = np.r_[0.0, rng.uniform(0.005, 0.02, 999)]
+    t = np.cumsum(dts)
+    v = np.column_stack([1.0 + 0.3 * t, -2.0 * t])
+    w = np.ones(1000)
+    w[300:500] = 0.0  # a long gap
+    w[-50:] = 0.0  # and one at the end: the line is extrapolated, not held
+    np.testing.assert_allclose(smooth_directions(v, w, dts, 3.0), v, atol=1e-9)

@@ -523,36 +523,62 @@ def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, use_mag, p,
 
 @nb.njit(cache=True, error_model="numpy")
 def smooth_directions(v, w, dts, tau):
-    """Zero-phase weighted smoothing of direction vectors (rows of v) with first-order time constant tau.
+    """Zero-phase weighted local-linear smoothing of direction vectors (rows of v), time constant tau.
 
-    Forward and backward exponential means of ``w v`` and of ``w`` over the sample intervals ``dts``, combined
-    without counting sample i twice; the ratio is the smoothed direction (unnormalised).  Samples of weight 0
-    are bridged by their neighbours.
+    At each sample, the straight line a + b (s - t) fitted to the rows by weighted least squares with weights
+    ``w exp(-|s - t| / tau)`` gives a (unnormalised; samples of weight 0 are bridged by their neighbours).
+    Where data lie evenly on both sides this is the two-sided exponential mean; at the ends of the record and
+    at the edges of long gaps it follows a ramp instead of lagging it by tau times its slope.  The sums run
+    forward and backward in O(n).
     """
     n, d = v.shape
-    fwd = np.zeros((n, d))
-    fw = np.zeros(n)
-    acc = np.zeros(d)
-    aw = 0.0
+    fs = np.zeros((n, 3))  # forward sums of w, w τ, w τ² (τ = s - t ≤ 0)
+    fy = np.zeros((n, 2 * d))  # forward sums of w v, w τ v
+    s0 = s1 = s2 = 0.0
+    y = np.zeros(2 * d)
     for i in range(n):
-        k = 1.0 - math.exp(-dts[i] / tau) if i > 0 else 1.0
-        keep = 1.0 - k if i > 0 else 0.0
+        if i > 0:
+            h = dts[i]
+            keep = math.exp(-h / tau)
+            s2 = keep * (s2 - 2.0 * h * s1 + h * h * s0)
+            s1 = keep * (s1 - h * s0)
+            s0 = keep * s0
+            for j in range(d):
+                y[d + j] = keep * (y[d + j] - h * y[j])
+                y[j] = keep * y[j]
+        s0 += w[i]
         for j in range(d):
-            acc[j] = keep * acc[j] + w[i] * v[i, j]
-        aw = keep * aw + w[i]
-        for j in range(d):
-            fwd[i, j] = acc[j]
-        fw[i] = aw
+            y[j] += w[i] * v[i, j]
+        fs[i, 0], fs[i, 1], fs[i, 2] = s0, s1, s2
+        for j in range(2 * d):
+            fy[i, j] = y[j]
     out = np.zeros((n, d))
-    for j in range(d):
-        acc[j] = 0.0
-    aw = 0.0
+    s0 = s1 = s2 = 0.0
+    for j in range(2 * d):
+        y[j] = 0.0
     for i in range(n - 1, -1, -1):
-        keep = math.exp(-dts[i + 1] / tau) if i < n - 1 else 0.0
+        if i < n - 1:
+            h = dts[i + 1]
+            keep = math.exp(-h / tau)
+            s2 = keep * (s2 + 2.0 * h * s1 + h * h * s0)
+            s1 = keep * (s1 + h * s0)
+            s0 = keep * s0
+            for j in range(d):
+                y[d + j] = keep * (y[d + j] + h * y[j])
+                y[j] = keep * y[j]
+        # both passes, sample i (at τ = 0) counted once: it is in the forward sums already
+        t0 = fs[i, 0] + s0
+        t1 = fs[i, 1] + s1
+        t2 = fs[i, 2] + s2
+        det = t0 * t2 - t1 * t1
         for j in range(d):
-            acc[j] = keep * acc[j] + w[i] * v[i, j]
-        aw = keep * aw + w[i]
-        total = fw[i] + aw - w[i]
+            a0 = fy[i, j] + y[j]
+            a1 = fy[i, d + j] + y[d + j]
+            if det > 1e-12 * t0 * t2 and t0 > 0.0:
+                out[i, j] = (t2 * a0 - t1 * a1) / det
+            else:
+                out[i, j] = a0 / t0 if t0 > 0.0 else 0.0
+        s0 += w[i]
         for j in range(d):
-            out[i, j] = (fwd[i, j] + acc[j] - w[i] * v[i, j]) / total if total > 0.0 else 0.0
+            y[j] += w[i] * v[i, j]
     return out

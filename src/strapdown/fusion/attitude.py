@@ -30,7 +30,8 @@ How it works
 6. Offline (:func:`attitude_offline`).  The recording runs forward and backward in time with time constants
    ``offline_time_factor`` times longer; their lags are equal and opposite, so their weighted mean cancels them.
    With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed forward
-   and backward in time, with the samples either pass found disturbed left out.
+   and backward in time by a local-linear fit (which follows the ramp a vertical gyro bias gives the 6D heading
+   right to the ends of the record), with the samples either pass found disturbed left out.
 
 Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
 Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.
@@ -445,7 +446,8 @@ def attitude_offline(
        weighted by how long each pass has been running (``1 - exp(-t/tau_acc)``), after turning the backward
        heading onto the forward one.
     2. With a magnetometer, the field is taken into that combined 6D frame and the heading that turns it north
-       is smoothed forward and backward in time (time constant ``tau_mag``), leaving out every sample either
+       is smoothed forward and backward in time by a local-linear fit (time constant ``tau_mag``; no lag
+       behind the heading drift of a vertical gyro bias, even at the ends), leaving out every sample either
        9D pass flagged as magnetically disturbed; the gaps are bridged by the samples around them.  If every
        sample is disturbed (a magnetometer with uncalibrated hard iron, say), the combined 6D attitude is
        turned onto the forward 9D pass's mean heading instead.
@@ -503,6 +505,8 @@ def attitude_offline(
         psi = np.arctan2(h[:, 0], h[:, 1])  # the heading offset that turns the field north (+y of ENU)
         weight = (~disturbed & np.isfinite(m[:, 0])).astype(np.float64)
         if weight.any():
+            # local-linear: the 6D passes cannot see a vertical gyro bias, so psi drifts in a ramp, which an
+            # exponential mean would lag by tau_mag times its slope at both ends of the record
             smooth = smooth_directions(
                 np.column_stack([np.cos(psi), np.sin(psi)]), weight, np.r_[0.0, intervals], po.tau_mag
             )

@@ -355,3 +355,18 @@ def test_local_linear_smoothing_reproduces_a_line_through_gaps():
     w[300:500] = 0.0  # a long gap
     w[-50:] = 0.0  # and one at the end: the line is extrapolated, not held
     np.testing.assert_allclose(smooth_directions(v, w, dts, 3.0), v, atol=1e-9)
+
+
+@pytest.mark.parametrize("density_deg", [0.005, 0.02, 0.05])
+def test_bias_sigma_at_rest_is_honest_for_noisy_gyros(density_deg):
+    # the rest mean is as noisy as the gyro makes it: the error must stay within 3 sigma, and sigma small
+    rng = np.random.default_rng(3)
+    n = 30000
+    bias = np.radians([0.4, -0.3, 0.2])
+    gyro = bias + rng.normal(0.0, np.radians(density_deg) * 10.0, (n, 3))  # density × √(100 Hz)
+    q = Rotation.from_euler("ZYX", [0.0, 10.0, 5.0], degrees=True)
+    acc = q.inv().apply([0.0, 0.0, 9.81]) + rng.normal(0.0, 0.01, (n, 3))
+    est = attitude(gyro, acc, dt=0.01)
+    err, sigma = np.abs(est.bias - bias)[2000:], est.extra["bias_sigma"][2000:]
+    assert (err > 3 * sigma).mean() < 0.01  # with a fixed measurement noise: 50-70 % for the two noisier gyros
+    assert deg(sigma.max()) < 3 * density_deg  # and still learnt: measured about 1.4 times the density

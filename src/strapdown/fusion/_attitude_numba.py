@@ -38,7 +38,8 @@ STARTED = 100  # 1: 1 once the regressor filter has started
 TACC = 101  # 1: seconds since the last accelerometer sample
 AFO = 102  # 3: the accelerometer filter's last output, in I
 AFDT = 105  # 1: the interval of the filter's last step, s (0: not stepped yet)
-SIZE = 106
+RESTV = 106  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)²
+SIZE = 107
 
 N_REG = 14
 N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
@@ -167,6 +168,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     rgx, rgy, rgz = s[RESTG], s[RESTG + 1], s[RESTG + 2]
     rax, ray, raz = s[RESTA], s[RESTA + 1], s[RESTA + 2]
     rest = s[REST]
+    rv = s[RESTV]
     H = np.zeros((3, 6))
     z = np.zeros(3)
     R = np.zeros(3)
@@ -246,6 +248,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         raz += rr * (az - raz)
         dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
         da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
+        rv += rr * (dg - rv)
         # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
         # must also be small enough to be a bias (VQF's test against its bias clip)
         if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < clip:
@@ -271,6 +274,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 cw * sw + c1 * s1 + c2 * s2, c1 * sw - cw * s1, c2 * sw - cw * s2, c2 * s1 - c1 * s2
             )
             sw, s1, s2 = cw, c1, c2
+            # Variance of the rest mean as a bias measurement, per axis: the gyro's own scatter through the
+            # exponential mean (factor rr/(2-rr)), times the number of block updates that share one mean's
+            # memory (2 rest_tau / T), which the filter would otherwise count as independent.
+            rest_var = rv / 3.0 * rr / (2.0 - rr) * max(1.0, 2.0 * rest_tau / tb)
             _block(
                 s,
                 P,
@@ -283,6 +290,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 rgx,
                 rgy,
                 rgz,
+                rest_var,
                 use_mag,
                 p,
                 H,
@@ -316,6 +324,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[RESTG], s[RESTG + 1], s[RESTG + 2] = rgx, rgy, rgz
     s[RESTA], s[RESTA + 1], s[RESTA + 2] = rax, ray, raz
     s[REST] = rest
+    s[RESTV] = rv
     s[TACC] = t_acc
 
 
@@ -401,7 +410,7 @@ def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
 
 
 @nb.njit(cache=True, error_model="numpy")
-def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, use_mag, p, H, z, R, PHt, K, tmp, work):
+def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, rest_var, use_mag, p, H, z, R, PHt, K, tmp, work):
     """The block-rate part: regressor filter, Kalman updates of bias and scale, magnetometer heading."""
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
     r_motion, kappa2, r_rest, r_mag, clip = p[4], p[5], p[6], p[7], p[12]
@@ -456,7 +465,7 @@ def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, use_mag, p,
             for j in range(6):
                 H[a, j] = 0.0
             H[a, a] = 1.0
-            R[a] = r_rest / T
+            R[a] = max(r_rest / T, rest_var)
         z[0] = rgx
         z[1] = rgy
         z[2] = rgz

@@ -18,8 +18,9 @@ How it works
    frame far more than bias does: on BROAD this alone lowers the 6D inclination error by a tenth.  A
    measurement is trusted less the faster the body turns (``bias_noise_rate_factor``), since unmodelled gyro
    errors grow with the rate.
-4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time``, the mean
-   gyro is a direct, precise measurement of the bias on all three axes.
+4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
+   mean rate is small enough to be a bias (a turntable is steady but not at rest), the mean gyro is a direct
+   measurement of the bias on all three axes, as noisy as the gyro's scatter about that mean says.
 5. Heading (9D).  The magnetic field, taken into the 6D frame, gives a heading offset δ that a first-order
    filter (``tau_mag``) follows about the vertical only, so the magnetometer never tilts the estimate:
    ``q = q_z(δ) ⊗ q_6D``.  The field's norm and dip are compared with a slowly learnt reference; while they
@@ -79,7 +80,8 @@ class AttitudeParams:
     bias_noise_rate_factor : float
         Growth of that noise with the angular rate, √s (noise² += factor² |ω|²).  Default 6e-4.
     bias_noise_rest : float
-        Noise density of the at-rest bias measurement, rad/s·√s (default 0.0018°/s·√s).
+        Least noise density of the at-rest bias measurement, rad/s·√s (default 0.0018°/s·√s).  Above it the
+        noise comes from the gyro's own scatter at rest, so that ``bias_sigma`` stays honest for noisy gyros.
     scale_sigma_init : float
         Initial uncertainty of the gyro scale-factor errors (dimensionless, default 0.002 = 0.2 %).
     scale_noise : float
@@ -213,6 +215,7 @@ _LAYOUT = (
     ("acc_gap_seconds", "TACC", 1),
     ("acc_filter_output", "AFO", 3),
     ("acc_filter_interval", "AFDT", 1),
+    ("rest_gyro_variance", "RESTV", 1),
 )
 
 

@@ -215,6 +215,8 @@ def test_bad_input_is_named():
         AttitudeParams(bias_noise_mag=-1.0)
     with pytest.raises(ValueError, match="update_rate must be a finite number"):
         AttitudeParams(update_rate=float("inf"))
+    with pytest.raises(ValueError, match="mag_dip_threshold is in radians"):
+        AttitudeParams(mag_dip_threshold=10.0)
     # the offline form validates as the online one does, and an empty recording is no error
     with pytest.raises(ValueError, match="give exactly one of dt"):
         attitude_offline(g, a)

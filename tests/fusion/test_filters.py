@@ -223,6 +223,17 @@ def test_bad_input_is_named(cls):
         cls(q0=[0.0, 0, 0, 0])
     with pytest.raises(ValueError, match="state must be a dict"):
         cls().state = {"x": 1}
+    # a state from another kind of filter, or a damaged one, is refused rather than failing later
+    other = (Mahony if cls is not Mahony else Madgwick)()
+    other.update(g, a, dt=0.01)
+    with pytest.raises(ValueError, match=f"taken from the .state of a {cls.__name__}"):
+        cls().state = other.state
+    f = cls()
+    f.update(g, a, dt=0.01)
+    damaged = f.state
+    damaged["q"] = np.zeros(4)
+    with pytest.raises(ValueError, match="state\\['q'\\]"):
+        cls().state = damaged
 
 
 def test_parameter_objects_reject_bad_values():

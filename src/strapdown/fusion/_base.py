@@ -161,13 +161,20 @@ class Estimator:
         out = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self._state.items()}
         out["_t_last"] = self._t_last
         out["_use_mag"] = self._use_mag
+        out["_kind"] = type(self).__name__
         return out
 
     @state.setter
     def state(self, value: dict) -> None:
-        if not isinstance(value, dict) or "q" not in value:
-            raise ValueError("state must be a dict taken from the .state of a filter of the same kind")
+        kind = type(self).__name__
+        if not isinstance(value, dict) or value.get("_kind") != kind:
+            raise ValueError(f"state must be a dict taken from the .state of a {kind}")
         value = dict(value)
+        _v.quaternions(value.get("q"), "state['q']", dtype=np.float64)  # finite, non-zero, shape (4,)
+        for k, v in value.items():
+            if isinstance(v, np.ndarray) and v.dtype.kind == "f" and not np.isfinite(v).all():
+                raise ValueError(f"state[{k!r}] holds NaN or infinities")
+        del value["_kind"]
         self._t_last = value.pop("_t_last", None)
         self._use_mag = value.pop("_use_mag", None)
         self._state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in value.items()}

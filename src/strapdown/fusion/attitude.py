@@ -147,6 +147,8 @@ class AttitudeParams:
                 raise ValueError(f"{f.name} must be a finite number, got {v!r}")
             if v < 0 or (v == 0 and f.name not in zero_ok):
                 raise ValueError(f"{f.name} must be {'non-negative' if f.name in zero_ok else 'positive'}, got {v!r}")
+        if self.mag_dip_threshold > np.pi:  # 10 meant as degrees would switch the dip test off unnoticed
+            raise ValueError(f"mag_dip_threshold is in radians, at most π; got {self.mag_dip_threshold!r}")
 
     @classmethod
     def of(cls, params: AttitudeParams | Mapping[str, float] | None) -> AttitudeParams:

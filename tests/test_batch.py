@@ -161,3 +161,113 @@ def test_columns_spec_travels_to_workers_unchanged():
 
     spec = ImuColumns(gyro="a,b,c", rate=50.0, extra=(("known_acc", "x,y,z"),))
     assert pickle.loads(pickle.dumps(spec)) == spec
+
+
+def _gyro_log(path, t, scale=0.5):
+    """A random gyro log at times t: rates of about ``scale`` rad/s (or increments of about ``scale`` rad)."""
+    gyro = np.random.default_rng(0).normal(0, scale, (len(t), 3))
+    return write_table(path, {"t": t, "gx": gyro[:, 0], "gy": gyro[:, 1], "gz": gyro[:, 2]}), gyro
+
+
+def test_split_refuses_a_default_method_it_cannot_split(tmp_path):
+    from strapdown.batch import SPLIT_METHODS
+
+    path, _ = _gyro_log(tmp_path / "inc.parquet", np.arange(2000) * 0.01, scale=0.005)
+    # plain integrate of increments defaults to coning2, which reads sample pairs across a cut
+    assert sd.AttitudeIntegrator(input="increment").method == "coning2"
+    with pytest.raises(ValueError, match="coning2") as err:
+        integrate_split(path, tmp_path / "out.parquet", parts=4, workers=1, input="increment")
+    assert all(m in str(err.value) for m in SPLIT_METHODS)
+    assert not (tmp_path / "out.parquet").exists()
+    from strapdown.batch import check_split
+
+    for method, kind in ((None, "increment"), ("coning2", "rate"), ("rk4", "average")):
+        with pytest.raises(ValueError, match="method"):
+            check_split(4, method, kind)
+    with pytest.raises(ValueError, match="parts"):
+        check_split(0, "exact", "rate")
+    # where the plain default can be split it is kept: the same attitudes as plain integrate
+    assert check_split(4, None, "rate") is None
+    whole = integrate_file(path, tmp_path / "whole.parquet")
+    split = integrate_split(path, tmp_path / "split.parquet", parts=4, workers=1)
+    assert rotation_angle(quats(split.output), quats(whole.output)).max() < 1e-13
+
+
+@pytest.mark.parametrize(
+    ("name", "shift", "where"),
+    [
+        ("gap.parquet", {3800: 5.0}, "a gap of 5.01 s"),  # exactly where the third of four parts starts
+        ("back.csv", {3800: -0.5}, "does not increase at line 3802"),  # line 1 is the header
+        ("gaps.parquet", {3800: 5.0, 6000: 5.0}, "before row 3800"),  # the first gap in the file is reported
+    ],
+)
+def test_split_checks_time_across_part_boundaries_as_integrate_does(tmp_path, name, shift, where):
+    t = np.arange(7600) * 0.01
+    for row, dt in shift.items():
+        t[row:] += dt
+    path, _ = _gyro_log(tmp_path / name, t)
+    with pytest.raises(ValueError) as whole:
+        integrate_file(path, tmp_path / "whole.csv")
+    assert where in str(whole.value)
+    with pytest.raises(ValueError) as split:
+        integrate_split(path, tmp_path / "split.csv", parts=4, workers=1, chunk_rows=1000)
+    assert str(split.value) == str(whole.value)
+    assert not (tmp_path / "split.csv").exists()
+
+
+def test_clashing_outputs_are_refused_before_anything_runs(tmp_path):
+    from strapdown.batch import batch_outputs
+
+    t = np.arange(200) * 0.01
+    for suffix in (".csv", ".h5", ".mat"):
+        _gyro_log(tmp_path / f"x{suffix}", t)
+    _gyro_log(tmp_path / "y.csv", t)
+    files, root = expand(str(tmp_path / "*"))
+    for out in (None, tmp_path / "res"):
+        with pytest.raises(ValueError) as err:
+            batch_outputs(files, "integrate", root, out)
+        message = str(err.value)
+        assert all(str(tmp_path / f"x{s}") in message for s in (".csv", ".h5", ".mat"))
+        assert "x.integrate.csv" in message and "y.csv" not in message
+    jobs = [Job("integrate", str(f), str(tmp_path / "same.csv")) for f in files[:2]]
+    with pytest.raises(ValueError, match=r"same\.csv"):
+        run_batch(jobs, workers=1)
+    cli = __import__("strapdown.cli", fromlist=["_build"])._build()
+    for extra in ([], ["--split", "2"]):
+        res = CliRunner().invoke(cli, ["batch", str(tmp_path / "*"), "integrate", "-j", "1", *extra])
+        assert res.exit_code == 2, res.output
+        assert f"{tmp_path / 'x.mat'} -> {tmp_path / 'x.integrate.csv'}" in res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.csv", "x.h5", "x.mat", "y.csv"]
+
+
+@pytest.mark.parametrize("method", [None, "cayley"])
+def test_split_output_carries_the_metadata_of_integrate(tmp_path, method):
+    import pyarrow.parquet as pq
+
+    path, _ = _gyro_log(tmp_path / "g.parquet", np.arange(3000) * 0.01)
+    common = {"method": method, "input": "average", "rate_frame": "reference"}
+    whole = integrate_file(path, tmp_path / "whole.parquet", **common)
+    split = integrate_split(path, tmp_path / "split.parquet", parts=3, workers=1, **common)
+    expected = pq.read_schema(whole.output).metadata
+    assert expected[b"strapdown_command"] == b"integrate" and expected[b"input"] == b"average"
+    assert pq.read_schema(split.output).metadata == expected
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--samples", "increment"], "integrates with method 'coning2' by default, which cannot be split"),
+        (["-m", "coning2"], "method 'coning2' cannot be split"),
+        (["--split", "0"], "--split takes a positive number of parts"),
+    ],
+)
+def test_cli_refuses_a_split_it_cannot_do_before_reading_any_file(tmp_path, options, message):
+    t = np.arange(400) * 0.01
+    for name in ("a.parquet", "b.parquet"):
+        _gyro_log(tmp_path / name, t, scale=0.005)
+    cli = __import__("strapdown.cli", fromlist=["_build"])._build()
+    args = ["batch", str(tmp_path / "*.parquet"), "integrate", "--split", "4", "-j", "1", *options]
+    res = CliRunner().invoke(cli, args)
+    assert res.exit_code == 2, res.output
+    assert message in res.output and "FAILED" not in res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.parquet", "b.parquet"]

@@ -11,7 +11,9 @@ from the identity (in parallel), the parts' end quaternions are chained by a pre
 products), and each part is then rotated by its prefix, ``q_k = P_r ⊗ L_k`` (in parallel).  The result
 equals the sequential integration to rounding (``tests/test_batch.py``).  It needs methods whose step k uses
 sample k alone (``exact``, ``first-order``, ``second-order``, ``cayley``); rk4 and the coning methods read
-neighbouring samples across the cut.
+neighbouring samples across the cut, so increments, whose default method is ``coning2``, need one named
+(:func:`check_split`).  The time checks of :func:`~strapdown.io.integrate_file` (increasing, ``max_gap``) also
+hold across the cuts, and the first fault in the file is the one reported.
 """
 
 from __future__ import annotations
@@ -28,11 +30,13 @@ from pathlib import Path
 import numpy as np
 
 from ._files import scratch_dir
-from .integrate import integrate
-from .io.imu import ImuColumns, ImuFile
+from .integrate import AttitudeIntegrator, integrate
+from .io.imu import ImuColumns, ImuFile, _TimeCheck
 from .io.pipeline import (
     CHUNK_ROWS,
     Report,
+    _metadata,
+    _output_path,
     convert_file,
     default_output,
     estimate_file,
@@ -44,7 +48,18 @@ from .io.tables import OutputSpec, attitude_columns
 from .io.writers import table_writer
 from .quaternion import multiply
 
-__all__ = ["COMMANDS", "Job", "JobResult", "batch_outputs", "expand", "integrate_split", "run_batch", "run_job"]
+__all__ = [
+    "COMMANDS",
+    "SPLIT_METHODS",
+    "Job",
+    "JobResult",
+    "batch_outputs",
+    "check_split",
+    "expand",
+    "integrate_split",
+    "run_batch",
+    "run_job",
+]
 
 #: The file commands a batch can run, by name.
 COMMANDS: dict[str, Callable[..., Report]] = {
@@ -53,6 +68,7 @@ COMMANDS: dict[str, Callable[..., Report]] = {
     "convert": convert_file,
 }
 
+#: The methods whose step k uses sample k alone: the only ones :func:`integrate_split` can cut.
 SPLIT_METHODS = ("exact", "first-order", "second-order", "cayley")
 
 
@@ -230,6 +246,11 @@ def run_batch(
     list of JobResult
         In the order of ``jobs``.
 
+    Raises
+    ------
+    ValueError
+        Before any job runs, when jobs share an output or one job's output is another's input.
+
     Examples
     --------
     >>> import numpy as np, pathlib, tempfile
@@ -245,6 +266,7 @@ def run_batch(
     [('good.csv', 10, True), ('bad.csv', 0, False)]
     """
     jobs = list(jobs)
+    _check_outputs([j.input for j in jobs], [j.output for j in jobs])
     results: list[JobResult | None] = [None] * len(jobs)
     with _Runner(scheduler, workers) as runner:
         for i, result in runner.map(run_job, jobs):
@@ -315,6 +337,12 @@ def batch_outputs(files: Sequence[Path], command: str, root: Path, out: Path | N
     list of pathlib.Path
         One output per input.
 
+    Raises
+    ------
+    ValueError
+        When inputs would share an output (``x.csv`` and ``x.h5`` both make ``x.integrate.csv``): the later
+        would silently replace the earlier.  The message lists them.
+
     Examples
     --------
     >>> from pathlib import Path
@@ -333,7 +361,30 @@ def batch_outputs(files: Sequence[Path], command: str, root: Path, out: Path | N
         except ValueError:
             rel = Path()
         outputs.append(Path(out) / rel / beside.name)
+    _check_outputs(files, outputs)
     return outputs
+
+
+def _check_outputs(inputs: Sequence, outputs: Sequence) -> None:
+    """Refuse outputs that several inputs share, or that are inputs: whichever job ends last would win silently."""
+    owners: dict[str, list] = {}
+    for i, o in zip(inputs, outputs, strict=True):
+        owners.setdefault(_file_key(o), []).append((i, o))
+    clashes = [(shared[0][1], [i for i, _ in shared]) for shared in owners.values() if len(shared) > 1]
+    if clashes:
+        listing = "; ".join(f"{', '.join(map(str, ins[:-1]))} and {ins[-1]} -> {o}" for o, ins in clashes)
+        raise ValueError(
+            f"several inputs would be written to one output, each replacing the last: {listing}.  Rename or move "
+            "the inputs, or run them separately"
+        )
+    read = {_file_key(i) for i in inputs}
+    for i, o in zip(inputs, outputs, strict=True):
+        if _file_key(o) in read:
+            raise ValueError(f"the output of {i}, {o}, is also an input; choose another output folder (--out)")
+
+
+def _file_key(path) -> str:
+    return os.path.normcase(os.path.realpath(path))
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -366,14 +417,21 @@ def _part_stream(part: _Part, imu: ImuFile, box: dict):
 
 
 def _part_end(part: _Part) -> dict:
-    """First pass: integrate the part from the identity; its end attitude and the samples at its edges."""
+    """First pass: integrate the part from the identity; its end attitude, the samples at its edges, or its error.
+
+    The error is returned, not raised, with the times read before it: the parent reports the first fault in
+    the file, which may be a step across this part's first cut rather than this error.
+    """
     box: dict = {}
-    with ImuFile(part.path, part.columns, require=("gyro",), increments=part.input == "increment") as imu:
-        end = np.array([1.0, 0.0, 0.0, 0.0])
-        for _, q in _part_stream(part, imu, box):
-            end = q[-1]
-        box["end"] = end
-        box["rate"] = imu.rate
+    try:
+        with ImuFile(part.path, part.columns, require=("gyro",), increments=part.input == "increment") as imu:
+            end = np.array([1.0, 0.0, 0.0, 0.0])
+            for _, q in _part_stream(part, imu, box):
+                end = q[-1]
+            box["end"] = end
+            box["rate"] = imu.rate
+    except Exception as exc:
+        box["error"] = exc
     return box
 
 
@@ -420,7 +478,8 @@ def integrate_split(
     scheduler, workers
         Where the parts run (as for :func:`run_batch`).
     columns, out, method, input, rate_frame, q0, chunk_rows
-        As for :func:`~strapdown.io.integrate_file`; ``method`` one of ``SPLIT_METHODS``.
+        As for :func:`~strapdown.io.integrate_file`; ``method`` one of ``SPLIT_METHODS``, or None when the
+        default for ``input`` is one (:func:`check_split`).
     progress : callable, optional
         Called with a line of text as each pass ends.
 
@@ -428,6 +487,13 @@ def integrate_split(
     -------
     Report
         Files, rows and time taken.
+
+    Raises
+    ------
+    ValueError
+        As :func:`~strapdown.io.integrate_file` for the same file, with the same message (time running back or
+        jumping by more than ``columns.max_gap`` periods is found across the cuts too); and when the method
+        cannot be split.  Nothing is written then.
 
     Examples
     --------
@@ -446,42 +512,86 @@ def integrate_split(
     True
     """
     t_start = time.perf_counter()
-    method = method or "exact"
-    if method not in SPLIT_METHODS:
-        raise ValueError(
-            f"a split integration needs a method whose step uses its own sample alone ({', '.join(SPLIT_METHODS)}); "
-            f"{method!r} reads neighbouring samples across the cut.  Integrate the file whole instead"
-        )
-    if not (isinstance(parts, int) and parts >= 1):
-        raise ValueError(f"parts must be a positive integer, got {parts!r}")
+    method = check_split(parts, method, input)
     columns = columns or ImuColumns()
     out = out or OutputSpec()
-    output = Path(output) if output is not None else default_output(path, "integrate", out.format)
-    with ImuFile(path, columns, require=("gyro",)) as imu:
+    output = _output_path(path, output, "integrate", out.format)
+    with ImuFile(path, columns, require=("gyro",), increments=input == "increment") as imu:
         n = imu.count_rows()
         read = imu.describe()
-    if n == 0:
-        raise ValueError(f"{path}: no rows")
-    bounds = sorted(set(np.linspace(0, n, parts + 1).round().astype(int).tolist()))
-    base = _Part(str(path), 0, 0, columns, method, input, rate_frame, chunk_rows)
-    ranges = [replace(base, start=a, stop=b) for a, b in itertools.pairwise(bounds)]
-    with _Runner(scheduler, workers) as runner:
-        ends = _gather(runner.map(_part_end, ranges), len(ranges))
-        if progress:
-            progress(f"pass 1: {len(ranges)} parts integrated from the identity")
-        prefixes = _prefixes(ends, q0, method, input, rate_frame, path)
-        fmt = format_of(output, out.format)
-        with scratch_dir(output) as scratch:
-            files = [str(scratch / f"part{i:05d}.{fmt}") for i in range(len(ranges))]
-            second = [
-                replace(r, prefix=tuple(p), out=replace(out, format=fmt), part_file=f)
-                for r, p, f in zip(ranges, prefixes, files, strict=True)
-            ]
-            rows = sum(_gather(runner.map(_part_write, second), len(second)))
+        if n == 0:
+            raise ValueError(f"{path}: no rows")
+        bounds = sorted(set(np.linspace(0, n, parts + 1).round().astype(int).tolist()))
+        base = _Part(str(path), 0, 0, columns, method, input, rate_frame, chunk_rows)
+        ranges = [replace(base, start=a, stop=b) for a, b in itertools.pairwise(bounds)]
+        with _Runner(scheduler, workers) as runner:
+            ends = _gather(runner.map(_part_end, ranges), len(ranges))
+            # the file stays open for the checks across the cuts: a CSV file names rows by line
+            _check_in_order(imu, chunk_rows, ranges, ends)
             if progress:
-                progress(f"pass 2: {len(second)} parts rotated by their prefixes and written")
-            _concatenate(files, output, fmt, chunk_rows)
+                progress(f"pass 1: {len(ranges)} parts integrated from the identity")
+            prefixes = _prefixes(ends, q0, method, input, rate_frame)
+            fmt = format_of(output, out.format)
+            meta = _metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame)
+            with scratch_dir(output) as scratch:
+                files = [str(scratch / f"part{i:05d}.{fmt}") for i in range(len(ranges))]
+                second = [
+                    replace(r, prefix=tuple(p), out=replace(out, format=fmt), part_file=f)
+                    for r, p, f in zip(ranges, prefixes, files, strict=True)
+                ]
+                rows = sum(_gather(runner.map(_part_write, second), len(second)))
+                if progress:
+                    progress(f"pass 2: {len(second)} parts rotated by their prefixes and written")
+                _concatenate(files, output, fmt, chunk_rows, meta)
     return Report(Path(path), output, rows, time.perf_counter() - t_start, read, [f"split into {len(ranges)} parts"])
+
+
+def check_split(parts, method: str | None, input: str = "rate") -> str | None:
+    """Check that an integration can be split, before anything is read: the method it then runs.
+
+    Parameters
+    ----------
+    parts : int
+        Row ranges, at least 1.
+    method : str or None
+        The method asked for; None for the default of :class:`~strapdown.AttitudeIntegrator`, which for
+        ``input="increment"`` is ``coning2``: it cannot be split, so increments need a method named.
+    input : str
+        What a sample is, as for :func:`~strapdown.integrate`.
+
+    Returns
+    -------
+    str or None
+        ``method`` unchanged: None runs the same default as an integration of the whole file.
+
+    Raises
+    ------
+    ValueError
+        When ``parts`` is not a positive integer, or the method (given or default) is not in ``SPLIT_METHODS``.
+
+    Examples
+    --------
+    >>> from strapdown.batch import check_split
+    >>> check_split(4, None, "rate") is None, check_split(4, "cayley", "increment")
+    (True, 'cayley')
+    >>> check_split(4, None, "increment")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+        ...
+    ValueError: input='increment' integrates with method 'coning2' by default, which cannot be split: ...
+    """
+    if isinstance(parts, bool) or not (isinstance(parts, int) and parts >= 1):
+        raise ValueError(f"parts must be a positive integer, got {parts!r}")
+    runs = AttitudeIntegrator(method, input=input).method  # checks both names and resolves the default
+    if runs in SPLIT_METHODS:
+        return method
+    if method is None:
+        what = f"input={input!r} integrates with method {runs!r} by default, which"
+    else:
+        what = f"method {runs!r}"
+    raise ValueError(
+        f"{what} cannot be split: it reads neighbouring samples across a cut.  Name a method that can "
+        f"({', '.join(SPLIT_METHODS)}), or integrate the file whole"
+    )
 
 
 def _gather(results: Iterator[tuple[int, object]], n: int) -> list:
@@ -493,7 +603,29 @@ def _gather(results: Iterator[tuple[int, object]], n: int) -> list:
     return out
 
 
-def _prefixes(ends: list[dict], q0, method: str, input: str, rate_frame: str, path) -> list[np.ndarray]:
+def _check_in_order(imu: ImuFile, chunk_rows: int, ranges: Sequence[_Part], ends: list[dict]) -> None:
+    """Raise the first fault in the file, as one sequential pass would: a part's own, or a step across a cut.
+
+    The steps across the cuts go through the check that :func:`~strapdown.io.integrate_file` runs, with the
+    sample period it would have estimated (from the file's first chunk), so the limits and messages are its.
+    A part's own rows are judged with the period of the part's first chunk: the same on regularly sampled
+    files, not to the last digit on jittery ones.
+    """
+    check = _TimeCheck(imu)
+    if check.period is None and len(ranges) > 1:
+        for chunk in imu.chunks(chunk_rows):
+            check(chunk.t, chunk.row)
+            if check.period is not None:
+                break
+    for r, (part, box) in enumerate(zip(ranges, ends, strict=True)):
+        if r and "first_t" in box:
+            check.last = ends[r - 1]["last_t"]
+            check(np.array([box["first_t"]]), part.start)
+        if "error" in box:
+            raise box["error"]
+
+
+def _prefixes(ends: list[dict], q0, method: str | None, input: str, rate_frame: str) -> list[np.ndarray]:
     """The attitude at the first row of each part: P_{r+1} = P_r ⊗ E_r ⊗ S_r, S_r the step across the cut."""
     p = np.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else np.asarray(q0, dtype=np.float64)
     p = p / np.linalg.norm(p)
@@ -504,20 +636,19 @@ def _prefixes(ends: list[dict], q0, method: str, input: str, rate_frame: str, pa
         if input == "increment":
             step = integrate(g, method=method, input=input, rate_frame=rate_frame)[-1]
         else:
+            # time increases across the cut (_check_in_order)
             h = 1.0 / before["rate"] if before["rate"] else after["first_t"] - before["last_t"]
-            if not h > 0:
-                raise ValueError(
-                    f"{path}: time does not increase across a part boundary: {before['last_t']!r} -> "
-                    f"{after['first_t']!r}; sort the rows"
-                )
             step = integrate(g, dt=h, method=method, input=input, rate_frame=rate_frame)[-1]
         p = multiply(step, multiply(before["end"], p)) if reference else multiply(multiply(p, before["end"]), step)
         out.append(p)
     return out
 
 
-def _concatenate(files: Sequence[str], output: Path, fmt: str, chunk_rows: int) -> None:
-    """Join part files into the output, atomically: CSV by bytes (one header), others by chunks of rows."""
+def _concatenate(files: Sequence[str], output: Path, fmt: str, chunk_rows: int, meta: dict) -> None:
+    """Join part files into the output, atomically: CSV by bytes (one header), others by chunks of rows.
+
+    ``meta`` is what :func:`~strapdown.io.integrate_file` stores with its table (CSV stores none).
+    """
     if fmt == "csv":
         from ._files import atomic_path
 
@@ -529,7 +660,7 @@ def _concatenate(files: Sequence[str], output: Path, fmt: str, chunk_rows: int) 
                         dst.write(header)
                     shutil.copyfileobj(src, dst, 1 << 24)
         return
-    with table_writer(output, fmt) as w:
+    with table_writer(output, fmt, meta) as w:
         for f in files:
             with open_source(f, fmt) as src:
                 names = list(src.fields)

@@ -725,7 +725,7 @@ def _batch_options_among(args, found: dict) -> list:
 def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -> None:
     import click
 
-    from .batch import Job, batch_outputs, expand, integrate_split, run_batch
+    from .batch import Job, batch_outputs, check_split, expand, integrate_split, run_batch
 
     found = {"out": out, "workers": workers, "scheduler": scheduler, "split": split}
     args = _batch_options_among(args, found)
@@ -749,10 +749,17 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
         raise click.UsageError("batch chooses each output's name: use batch --out FOLDER instead of -o")
     kwargs = _KWARGS[command](params)
     fmt = params.get("out_format")
-    outputs = batch_outputs(files, command, root, out, fmt)
+    if split is not None and command != "integrate":
+        raise click.UsageError("--split works with integrate only")
+    if split is not None and split < 1:
+        raise click.UsageError(f"--split takes a positive number of parts, got {split}")
+    try:  # before any file is read: outputs that clash, and a split the method cannot take
+        outputs = batch_outputs(files, command, root, out, fmt)
+        if split is not None:
+            check_split(split, kwargs["method"], kwargs["input"])
+    except ValueError as exc:
+        raise click.UsageError(str(exc)) from None
     if split:
-        if command != "integrate":
-            raise click.UsageError("--split works with integrate only")
         failed = 0
         for f, o in zip(files, outputs, strict=True):
             try:

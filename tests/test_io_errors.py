@@ -139,3 +139,29 @@ def test_split_rejects_methods_that_read_neighbours(cli, tmp_path):
     path = write_table(tmp_path / "a.parquet", imu())
     out = failure(cli, "batch", path, "integrate", "--split", "2", "--method", "rk4", "-j", "1")
     assert "rk4" in out and "split" in out
+
+
+@pytest.mark.parametrize("fmt", ["csv", "parquet", "h5", "mat"])
+@pytest.mark.parametrize("out", ["csv", "parquet", "h5", "mat"])
+def test_input_without_rows_is_named_and_nothing_is_written(cli, tmp_path, fmt, out):
+    path = write_table(tmp_path / f"zero.{fmt}", {name: values[:0] for name, values in imu().items()})
+    quat = write_table(tmp_path / f"q.{fmt}", {name: np.zeros(0) for name in ("t", "qw", "qx", "qy", "qz")})
+    for command, source in (("integrate", path), ("estimate", path), ("convert", quat)):
+        target = tmp_path / f"{command}.{out}"
+        assert f"{source} has no data rows" in failure(cli, command, source, "-o", target)
+        assert not target.exists()
+
+
+def test_chunk_rows_must_be_positive(cli, tmp_path):
+    from strapdown.io import convert_file, estimate_file, integrate_file, open_source
+
+    path = write_table(tmp_path / "a.csv", imu())
+    assert "chunk_rows must be a positive integer, got -5" in failure(cli, "integrate", path, "--chunk-rows", -5)
+    for bad in (0, -1, 2.5):
+        for run in (integrate_file, estimate_file, convert_file):
+            with pytest.raises(ValueError, match="chunk_rows must be a positive integer"):
+                run(path, tmp_path / "o.csv", chunk_rows=bad)
+        for fmt in ("csv", "parquet", "h5", "mat"):
+            with open_source(write_table(tmp_path / f"a.{fmt}", imu(n=3))) as src, pytest.raises(ValueError):
+                next(src.chunks(["t"], bad))
+    assert not (tmp_path / "o.csv").exists()

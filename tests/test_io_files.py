@@ -9,6 +9,7 @@ import strapdown as sd
 from strapdown.io import (
     ImuColumns,
     ImuFile,
+    convert_file,
     estimate_file,
     integrate_file,
     open_source,
@@ -196,3 +197,80 @@ def test_public_functions_have_numpy_docstrings_with_examples(module):
             doc = obj.__doc__ or ""
             assert "Examples" in doc and ">>>" in doc, f"{module}.{name} has no example"
             assert "Parameters" in doc and ("Returns" in doc or "Yields" in doc), f"{module}.{name}: numpy sections"
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_a_table_without_rows_is_written_with_its_columns(tmp_path, fmt):
+    with table_writer(tmp_path / f"empty.{fmt}") as w:
+        w.write({"t": np.zeros(0), "flag": np.zeros(0, dtype=np.uint8)})
+    back = read_table(tmp_path / f"empty.{fmt}")
+    assert list(back) == ["t", "flag"]
+    assert all(v.shape == (0,) for v in back.values())
+    # no chunk at all: no columns to write, so no file rather than one that no reader accepts
+    with (
+        pytest.raises(ValueError, match=r"nothing was written to .*none\.\w+: no columns"),
+        table_writer(tmp_path / f"none.{fmt}"),
+    ):
+        pass
+    assert not (tmp_path / f"none.{fmt}").exists()
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+@pytest.mark.parametrize("n", [1, 2])
+def test_one_and_two_row_tables_round_trip(tmp_path, fmt, n):
+    cols = {"t": np.arange(n) * 0.01, "gx": np.full(n, 0.3), "gy": np.arange(n) - 0.5, "gz": np.zeros(n)}
+    back = read_table(write_table(tmp_path / f"short.{fmt}", cols))
+    assert list(back) == list(cols)
+    for name, values in cols.items():
+        np.testing.assert_array_equal(back[name], values)
+    # and through the file commands: integrate to this format, then convert what was written
+    out = integrate_file(write_table(tmp_path / "in.csv", cols), tmp_path / f"q.{fmt}").output
+    q = quats(read_table(out))
+    gyro = np.column_stack([cols[c] for c in ("gx", "gy", "gz")])
+    np.testing.assert_allclose(q, np.vstack([[1.0, 0, 0, 0], sd.integrate(gyro[:-1], t=cols["t"])[1:]]), atol=1e-15)
+    table = read_table(convert_file(out, tmp_path / "e.csv", target="rotvec").output)
+    np.testing.assert_allclose(
+        np.column_stack([table[f"rotvec_{a}_deg"] for a in "xyz"]), sd.as_rotvec(q, degrees=True), atol=1e-12
+    )
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_matlab_v5_short_logs_keep_their_orientation(tmp_path, n):
+    import scipy.io
+
+    gyr = np.arange(3.0 * n).reshape(n, 3) / 10
+    path = tmp_path / "short.mat"
+    scipy.io.savemat(path, {"imu_gyr": gyr, "imu_acc": gyr + 9.0, "sampling_rate": 50.0})  # BROAD's layout
+    data = read_imu(path, optional=("acc",))
+    np.testing.assert_array_equal(data.gyro, gyr)
+    np.testing.assert_array_equal(data.acc, gyr + 9.0)
+    np.testing.assert_array_equal(data.t, np.arange(n) / 50.0)
+    if n > 1:  # a 1 x n time row beside n x 3 readings is a column (one row would be a scalar: MATLAB cannot tell)
+        scipy.io.savemat(path, {"imu_gyr": gyr, "t": np.arange(n)[None] * 0.02})
+        np.testing.assert_array_equal(read_imu(path).t, np.arange(n) * 0.02)
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_integer_epoch_nanoseconds_count_from_the_first_exactly(tmp_path, fmt):
+    ns = 1_700_000_000_000_000_000 + np.arange(6, dtype=np.int64) * 10_000_000 + np.array([0, 1, 2, 3, 7, 9])
+    cols = {"timestamp_ns": ns, "gx": np.zeros(6), "gy": np.zeros(6), "gz": np.full(6, 0.1)}
+    path = write_table(tmp_path / f"ns.{fmt}", cols)
+    data = read_imu(path)
+    # float64 holds 1.7e18 only to 256 ns: counting from the first in integers keeps every nanosecond
+    expected = np.array([int(v) - int(ns[0]) for v in ns]) / 1e9
+    np.testing.assert_allclose(data.t, expected, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(np.diff(data.t), np.diff(expected), rtol=1e-12, atol=0)
+    # a plain read gives the nearest float64 (no Arrow range error), as every format does
+    np.testing.assert_array_equal(read_table(path, ["timestamp_ns"])["timestamp_ns"], ns.astype(np.float64))
+
+
+def test_iso_times_ending_in_z_equal_those_without(tmp_path):
+    start = np.datetime64("2024-03-01T12:00:00", "ns")
+    stamps = start + np.array([0, 10_000_001, 20_000_000, 30_000_123], dtype="timedelta64[ns]")
+    rows = "".join(f"{s}Z,0,0,{i}\n" for i, s in enumerate(stamps))
+    zulu, local = tmp_path / "z.csv", tmp_path / "local.csv"
+    zulu.write_text("timestamp,gx,gy,gz\n" + rows)
+    local.write_text("timestamp,gx,gy,gz\n" + rows.replace("Z", ""))
+    t = read_imu(zulu).t
+    np.testing.assert_array_equal(t, read_imu(local).t)
+    np.testing.assert_array_equal(t, (stamps - start).astype(np.int64) / 1e9)

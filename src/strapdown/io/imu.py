@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
-from .readers import Source, open_source
+from .readers import Source, check_chunk_rows, open_source
 from .units import check_plausible, parse_unit, scale
 
 __all__ = ["ImuChunk", "ImuColumns", "ImuFile", "read_imu"]
@@ -43,7 +43,8 @@ class ImuColumns:
     gyro, acc, mag : str, optional
         Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``).
     time : str, optional
-        The time column.
+        The time column.  Date-times and integers (epoch nanoseconds, say) are counted from the file's first
+        value; other numbers are taken as they are.
     rate : float, optional
         Sample rate in Hz, for files without time (row k is at k / rate).
     gyro_unit, acc_unit, mag_unit, time_unit : str, optional
@@ -191,6 +192,9 @@ class ImuFile:
         self._resolve_time()
         self.increments = increments
         self.rows = self._check_lengths()
+        if self.rows == 0 or self.source.rows == 0:
+            # an output of no rows would look like a result; CSV, Parquet, HDF5 and .mat alike stop here
+            raise ValueError(f"{self.path} has no data rows: there are no readings to process")
 
     def _resolve_time(self) -> None:
         spec, fields = self.spec, self.source.fields
@@ -272,7 +276,7 @@ class ImuFile:
         Parameters
         ----------
         chunk_rows : int
-            Rows per chunk (about, for CSV).
+            Rows per chunk (about, for CSV); a positive integer.
         start, stop : int
             Row range; the whole file by default.
 
@@ -286,8 +290,11 @@ class ImuFile:
         if self.time is not None:
             names += list(self.time.fields)
         names = list(dict.fromkeys(names))
+        chunk_rows = check_chunk_rows(chunk_rows)
+        # integer times (epoch ns) count from the file's first, in integers: as float64 they would lose 0.2 µs
+        relative = self.time.fields if self.time is not None and not self._timestamps else ()
         check = _TimeCheck(self)
-        for row, cols in self.source.chunks(names, chunk_rows, start, stop):
+        for row, cols in self.source.chunks(names, chunk_rows, start, stop, relative=relative):
             n = len(next(iter(cols.values()))) if cols else 0
             self._check_finite(cols, row, n)
             if self._timestamps:

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..integrate import AttitudeIntegrator
 from .imu import ImuColumns, ImuFile
-from .readers import format_of, open_source
+from .readers import check_chunk_rows, format_of, open_source
 from .tables import REPRESENTATIONS, Angles, OutputSpec, attitude_columns, column_names, from_values, to_values
 from .writers import table_writer
 
@@ -199,6 +199,12 @@ class _RowTimes:
         return everything[:m]
 
 
+def _require_rows(path, rows: int) -> None:
+    """Stop before an output of no rows is written (inside the writer's block, so that none appears)."""
+    if rows == 0:
+        raise ValueError(f"{path} has no data rows: there are no readings to process")
+
+
 def _output_path(path, output, command: str, format: str | None) -> Path:
     out = Path(output) if output is not None else default_output(path, command, format)
     if path is not None and out.resolve() == Path(path).resolve():
@@ -259,6 +265,7 @@ def integrate_file(
     array([ 0., 45., 90.])
     """
     t_start = time.perf_counter()
+    chunk_rows = check_chunk_rows(chunk_rows)
     out = out or OutputSpec()
     output = _output_path(path, output, "integrate", out.format)
     with ImuFile(path, columns, require=("gyro",), increments=input == "increment") as imu:
@@ -274,6 +281,7 @@ def integrate_file(
         with table_writer(output, out.format, meta) as w:
             for t, q in stream:
                 w.write(attitude_columns(t, q, out))
+            _require_rows(path, w.rows)
         return Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
 
 
@@ -365,6 +373,7 @@ def estimate_file(
     from ..evaluate import ESTIMATORS, make_params
 
     t_start = time.perf_counter()
+    chunk_rows = check_chunk_rows(chunk_rows)
     p = make_params(estimator, params)  # also rejects an unknown estimator, listing the known ones
     cls, _, takes_mag = ESTIMATORS[estimator]
     columns = columns or ImuColumns()
@@ -389,6 +398,7 @@ def estimate_file(
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
                 e = est.update(chunk.gyro, chunk.acc, chunk.mag if use_mag else None, **timing, **chunk.extra)
                 w.write(attitude_columns(chunk.t, e.q, out, e.bias, e.flags))
+            _require_rows(path, w.rows)
         report = Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, output frame {frame.upper()}")
         return report
@@ -517,6 +527,7 @@ def convert_file(
     from .columns import detect_time, pick_vector
 
     t_start = time.perf_counter()
+    chunk_rows = check_chunk_rows(chunk_rows)
     angles_in, angles_out = angles_in or Angles(), angles_out or Angles()
     output = _output_path(path, output, "convert", out_format)
     names_out = column_names(target, angles_out)
@@ -537,6 +548,7 @@ def convert_file(
                 done += len(values)
                 if progress is not None:
                     progress(done, src.rows)
+            _require_rows(path, done)
         return Report(Path(path), output, w.rows, time.perf_counter() - t_start, f"{source}: {','.join(fields)}")
 
 

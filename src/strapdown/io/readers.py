@@ -86,7 +86,10 @@ class Source:
     scalars : dict of str to float
         Scalar values stored in the file (HDF5 attributes and scalars, .mat scalars).
     rows : int or None
-        Number of rows, None for CSV until counted (:meth:`count_rows`).
+        Number of rows, None for CSV until counted (:meth:`count_rows`); 0 for a CSV file with only a header.
+    integers : set of str
+        Integer fields (CSV: those whose first value is an integer), which ``chunks(relative=...)`` counts from
+        their first value.
     """
 
     format = ""
@@ -98,6 +101,7 @@ class Source:
         self.scalars: dict[str, float] = {}
         self.rows: int | None = None
         self.origins: dict[str, str] = {}  # timestamp fields: the instant their seconds count from
+        self.integers: set[str] = set()  # integer fields: counted from their first value when asked (``relative``)
 
     def _origin(self, name: str, first) -> int | None:
         """The first value of a timestamp field in ns since the epoch: one origin per file, whatever the rows read."""
@@ -106,6 +110,13 @@ class Source:
         value = np.datetime64(first, "ns")
         self.origins[name] = str(value)
         return int(value.astype(np.int64))
+
+    def _int_origin(self, name: str, first) -> int | None:
+        """The first value of an integer field, which the values of ``relative`` chunks count from."""
+        if first is None:
+            return None
+        self.origins[name] = str(int(first))
+        return int(first)
 
     def where(self, row: int) -> str:
         """Where row ``row`` (0-based) is in the file, as a user would look for it."""
@@ -120,11 +131,18 @@ class Source:
         return self.rows
 
     def chunks(
-        self, names: Sequence[str], chunk_rows: int, start: int = 0, stop: int | None = None
+        self,
+        names: Sequence[str],
+        chunk_rows: int,
+        start: int = 0,
+        stop: int | None = None,
+        relative: Sequence[str] = (),
     ) -> Iterator[tuple[int, dict]]:
         """Yield ``(first row, {name: array})`` for rows ``start`` to ``stop`` in blocks of about ``chunk_rows``.
 
-        Arrays are float64: (n,) for columns, (n, k) for k-wide fields; missing values are NaN.
+        Arrays are float64: (n,) for columns, (n, k) for k-wide fields; missing values are NaN.  Integer fields
+        named in ``relative`` count from the file's first value, subtracted in integer arithmetic: epoch
+        nanoseconds (~1.7e18) are past float64's 2**53 and would lose up to 0.1 µs.
         """
         raise NotImplementedError
 
@@ -136,6 +154,13 @@ class Source:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def check_chunk_rows(chunk_rows) -> int:
+    """``chunk_rows`` as an int, or a ValueError: zero or negative would read nothing, or loop forever."""
+    if isinstance(chunk_rows, bool) or not isinstance(chunk_rows, int | np.integer) or chunk_rows < 1:
+        raise ValueError(f"chunk_rows must be a positive integer, got {chunk_rows!r}")
+    return int(chunk_rows)
 
 
 def open_source(path, format: str | None = None) -> Source:
@@ -180,10 +205,11 @@ def open_source(path, format: str | None = None) -> Source:
 
 
 # --------------------------------------------------------------------------------------------------------
-def _arrow_to_numpy(column, origin_ns: int | None = None) -> np.ndarray:
+def _arrow_to_numpy(column, origin: int | None = None) -> np.ndarray:
     """An Arrow array as float64: fixed-size lists as (n, k), nulls as NaN, timestamps in seconds from an origin.
 
-    ``origin_ns`` is in ns since the epoch: float64 seconds since 1970 would resolve only 0.2 µs.
+    ``origin`` is in ns since the epoch for timestamps (float64 seconds since 1970 would resolve only 0.2 µs),
+    and in the column's own unit for integers; both are subtracted before the conversion to float64.
     """
     pa = need("pyarrow", "reading Arrow data")
     if hasattr(column, "combine_chunks"):
@@ -191,8 +217,9 @@ def _arrow_to_numpy(column, origin_ns: int | None = None) -> np.ndarray:
     typ = column.type
     if pa.types.is_timestamp(typ):
         ns = column.cast(pa.timestamp("ns")).cast(pa.int64())
-        ns = ns.to_numpy(zero_copy_only=False) if ns.null_count == 0 else ns.cast(pa.float64()).to_numpy(False)
-        return (ns - (origin_ns or 0)).astype(np.float64) / 1e9
+        return _int_minus(ns, origin) / 1e9
+    if pa.types.is_integer(typ) and origin is not None:
+        return _int_minus(column.cast(pa.int64()), origin)
     if pa.types.is_duration(typ):
         per_second = {"s": 1, "ms": 1e3, "us": 1e6, "ns": 1e9}[typ.unit]
         return column.cast(pa.int64()).cast(pa.float64()).to_numpy(zero_copy_only=False) / per_second
@@ -201,8 +228,19 @@ def _arrow_to_numpy(column, origin_ns: int | None = None) -> np.ndarray:
         flat = column.flatten().cast(pa.float64()).to_numpy(zero_copy_only=False)
         return flat.reshape(-1, k)
     if not pa.types.is_float64(typ):
-        column = column.cast(pa.float64())
+        # unchecked: integers past 2**53 round to the nearest float64, as in CSV and HDF5, instead of failing
+        column = column.cast(pa.float64(), safe=False)
     return column.to_numpy(zero_copy_only=False)
+
+
+def _int_minus(ints, origin: int | None) -> np.ndarray:
+    """An Arrow int64 array minus ``origin`` (exact), as float64 with nulls as NaN."""
+    pc = need("pyarrow.compute", "reading Arrow data")
+    values = ints.fill_null(0).to_numpy(zero_copy_only=False) if ints.null_count else ints.to_numpy(False)
+    out = (values - np.int64(origin or 0)).astype(np.float64)
+    if ints.null_count:
+        out[pc.is_null(ints).to_numpy(zero_copy_only=False)] = np.nan
+    return out
 
 
 def _arrow_width(field) -> int | None:
@@ -251,10 +289,22 @@ class CsvSource(Source):
             raise ValueError(f"the column name(s) {', '.join(dup)} appear more than once in the header")
         self.fields = {h: 1 for h in self.header}
         lines = [s for s in sample if s.strip()]
+        if not lines and not self._has_data():
+            self.rows = 0  # known now: Arrow would fail with "Empty CSV file", naming neither file nor problem
         self._first_values = next(csv.reader(lines[:1], delimiter=self.delimiter), [])
+        self.integers = {h for h, v in zip(self.header, self._first_values, strict=False) if _INTEGER.match(v.strip())}
         self._bytes_per_row = max(8, sum(len(s) for s in lines) // max(len(lines), 1))
         with open(path, "rb") as f:
             self._header_bytes = len(f.readline())
+
+    def _has_data(self) -> bool:
+        """Whether anything but blank lines follows the header."""
+        with open(self.path, "rb") as f:
+            f.readline()
+            while block := f.read(1 << 20):
+                if block.strip():
+                    return True
+        return False
 
     def where(self, row: int) -> str:
         """The line number of data row ``row`` (line 1 is the header)."""
@@ -300,7 +350,7 @@ class CsvSource(Source):
         i = self.header.index(name)
         return self._first_values[i].strip().rstrip("Z") if i < len(self._first_values) else None
 
-    def _types(self, names):
+    def _types(self, names, relative=()):
         pa = need("pyarrow", "reading CSV files")
         types = {}
         for n in names:
@@ -308,30 +358,46 @@ class CsvSource(Source):
             first = self._first_values[i].strip() if i < len(self._first_values) else ""
             types[n] = pa.float64()
             if first and not _is_number(first) and _is_timestamp(first):
-                types[n] = pa.timestamp("ns")
+                # Arrow takes a trailing Z (UTC) only into a zoned type; cast to naive UTC in _arrow_to_numpy
+                types[n] = pa.timestamp("ns", tz="UTC") if first.endswith("Z") else pa.timestamp("ns")
+            elif n in relative and n in self.integers and abs(int(first)) > 2**53:
+                types[n] = pa.int64()  # float64 would round the values before their first is subtracted
         return types
 
-    def chunks(self, names, chunk_rows, start=0, stop=None):
+    def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named columns, about ``chunk_rows`` at a time."""
         pc = need("pyarrow.csv", "reading CSV files")
         pa = need("pyarrow", "reading CSV files")
+        chunk_rows = check_chunk_rows(chunk_rows)
         names = list(names)
+        if self.rows == 0:
+            return
         offset = self._header_bytes if start == 0 else self._row_offset(start)
         block = int(min(max(chunk_rows * self._bytes_per_row, 1 << 16), 1 << 28))
         read = pc.ReadOptions(column_names=self.header, block_size=block)
         parse = pc.ParseOptions(delimiter=self.delimiter)
-        convert = pc.ConvertOptions(column_types=self._types(names), include_columns=names, strings_can_be_null=True)
+        types = self._types(names, relative)
+        convert = pc.ConvertOptions(column_types=types, include_columns=names, strings_can_be_null=True)
+        origins = {n: self._origin(n, self._first(n)) for n in names if self.is_timestamp(n)}
+        for n in set(relative) & self.integers & set(names):
+            origins[n] = self._int_origin(n, self._first(n))
         with open(self.path, "rb") as f:
             f.seek(offset)
             try:
                 reader = pc.open_csv(f, read_options=read, parse_options=parse, convert_options=convert)
-                origins = {n: self._origin(n, self._first(n)) for n in names if self.is_timestamp(n)}
                 for row, batch in _window(reader, start, stop, start):
-                    yield row, {n: _arrow_to_numpy(batch.column(n), origins.get(n)) for n in names}
+                    cols = {}
+                    for n in names:
+                        if types[n] == pa.float64() and origins.get(n) is not None:
+                            # below 2**53 integers are exact in float64, and so is their difference
+                            cols[n] = _arrow_to_numpy(batch.column(n)) - float(origins[n])
+                        else:
+                            cols[n] = _arrow_to_numpy(batch.column(n), origins.get(n))
+                    yield row, cols
             except pa.ArrowInvalid as exc:
-                raise ValueError(self._explain(names, start, str(exc))) from None
+                raise ValueError(self._explain(names, start, str(exc), types)) from None
 
-    def _explain(self, names, start: int, arrow_message: str) -> str:
+    def _explain(self, names, start: int, arrow_message: str, types: dict) -> str:
         """Find the first value that is not a number (Arrow does not say where it is)."""
         index = {n: self.header.index(n) for n in names}
         with open(self.path, newline="", encoding="utf-8-sig") as f:
@@ -348,7 +414,12 @@ class CsvSource(Source):
                     v = values[i].strip()
                     if v and not _is_number(v) and not _is_timestamp(v):
                         return f"{self.path}: {self.where(row)}, column {n!r}: {v!r} is not a number"
+                    if v and str(types[n]) == "int64" and not _INTEGER.match(v):
+                        return f"{self.path}: {self.where(row)}, column {n!r}: {v!r} is not an integer like the first"
         return f"{self.path}: {arrow_message}"
+
+
+_INTEGER = re.compile(r"^[+-]?\d+$")
 
 
 def _is_number(text: str) -> bool:
@@ -382,6 +453,7 @@ class ParquetSource(Source):
         schema = self._file.schema_arrow
         pa = need("pyarrow", "reading Parquet files")
         self._timestamps = {f.name for f in schema if pa.types.is_timestamp(f.type)}
+        self.integers = {f.name for f in schema if pa.types.is_integer(f.type)}
         for field in schema:
             w = _arrow_width(field)
             if w:
@@ -401,13 +473,18 @@ class ParquetSource(Source):
         return name in self._timestamps
 
     def _first(self, name: str):
-        if not self.rows:
+        group = next((i for i, n in enumerate(self._group_rows) if n), None)
+        if group is None:
             return None
-        column = self._file.read_row_group(0, columns=[name]).column(0)
+        pa = need("pyarrow", "reading Parquet files")
+        column = self._file.read_row_group(group, columns=[name]).column(0)
+        if name in self._timestamps:  # as ns since the epoch: as_py() would make a datetime, with µs only
+            column = column.cast(pa.timestamp("ns")).cast(pa.int64())
         return column[0].as_py() if column[0].is_valid else None
 
-    def chunks(self, names, chunk_rows, start=0, stop=None):
+    def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named columns, about ``chunk_rows`` at a time."""
+        chunk_rows = check_chunk_rows(chunk_rows)
         names = list(names)
         stop = self.rows if stop is None else min(stop, self.rows)
         ends = np.cumsum(self._group_rows)
@@ -417,6 +494,7 @@ class ParquetSource(Source):
         first = int(ends[groups[0]] - self._group_rows[groups[0]])
         batches = self._file.iter_batches(batch_size=chunk_rows, row_groups=groups, columns=names)
         origins = {n: self._origin(n, self._first(n)) for n in names if n in self._timestamps}
+        origins |= {n: self._int_origin(n, self._first(n)) for n in names if n in relative and n in self.integers}
         for row, batch in _window(batches, start, stop, first):
             yield row, {n: _arrow_to_numpy(batch.column(n), origins.get(n)) for n in names}
 
@@ -465,36 +543,58 @@ class Hdf5Source(Source):
     def _visit(self, name: str, obj) -> None:
         if obj.dtype.kind not in "iuf" or obj.ndim > 2:
             return
-        if obj.size == 1:
+        # a 1-D dataset of one element is a one-row column (this package writes columns so); MATLAB stores
+        # its scalars as (1, 1)
+        if obj.ndim == 0 or (obj.ndim == 2 and obj.size == 1):
             self.scalars[name] = float(np.asarray(obj[()]).reshape(()))
             return
         if obj.ndim == 1:
             rows, width, transposed = obj.shape[0], 1, False
+        elif obj.size == 0:  # (0, k) or MATLAB's (k, 0): no rows of k values
+            a, b = obj.shape
+            rows, width, transposed = 0, max(a, b, 1), a > b
         else:
             a, b = obj.shape
             rows, width, transposed = (a, b, False) if a >= b else (b, a, True)
         self.fields[name] = width
         self.lengths[name] = rows
         self._datasets[name] = (obj, transposed)
+        if width == 1 and obj.dtype.kind in "iu":
+            self.integers.add(name)
 
-    def chunks(self, names, chunk_rows, start=0, stop=None):
+    def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named datasets, ``chunk_rows`` at a time."""
+        chunk_rows = check_chunk_rows(chunk_rows)
         names = list(names)
         n = min(self.lengths[name] for name in names) if names else 0
         stop = n if stop is None else min(stop, n)
-        for a in range(start, stop, max(chunk_rows, 1)):
+        origins = {}
+        for name in set(relative) & self.integers & set(names):
+            ds, _ = self._datasets[name]
+            first = np.asarray(ds[(0,) * ds.ndim]) if self.lengths[name] else None
+            origins[name] = self._int_origin(name, first)
+        for a in range(start, stop, chunk_rows):
             b = min(a + chunk_rows, stop)
             out = {}
             for name in names:
                 ds, transposed = self._datasets[name]
                 block = ds[:, a:b].T if transposed else ds[a:b]
-                block = np.asarray(block, dtype=np.float64)
-                out[name] = block.reshape(-1) if self.fields[name] == 1 else block
+                out[name] = _from_origin(block, origins.get(name))
+                if self.fields[name] == 1:
+                    out[name] = out[name].reshape(-1)
             yield a, out
 
     def close(self):
         """Release the file."""
         self._file.close()
+
+
+def _from_origin(block, origin: int | None) -> np.ndarray:
+    """A numpy block as float64, less ``origin`` in integer arithmetic first when given."""
+    block = np.asarray(block)
+    if origin is not None:
+        block = block.astype(np.int64) - np.int64(origin)
+    return np.asarray(block, dtype=np.float64)
 
 
 class MatV73Source(Hdf5Source):
@@ -508,7 +608,10 @@ class MatSource(Source):
     """A MATLAB v4/v5 file (scipy.io): loaded whole, as the format cannot be read in parts.
 
     Variables of shape (N,), (N, 1) or (1, N) are columns, (N, k) arrays are fields of width k, scalars are
-    scalars; struct fields are named ``struct.field``.
+    scalars; struct fields are named ``struct.field``.  Arrays are loaded unsqueezed, so their MATLAB shape is
+    known: a small array is taken as stored ((2, 3) is two rows of three), unless that makes its rows disagree
+    with the other variables' ((1, 5) beside 5-row arrays is a column).  The variables that
+    :func:`strapdown.io.write_table` lists in ``strapdown_columns`` are columns whatever their length.
     """
 
     format = "mat"
@@ -516,40 +619,103 @@ class MatSource(Source):
     def __init__(self, path: Path):
         super().__init__(path)
         sio = need("scipy.io", "reading MATLAB files")
-        data = sio.loadmat(str(path), simplify_cells=True)
+        # squeezing would make a one-row column a scalar and a (1, 3) row a column of 3
+        data = sio.loadmat(str(path), squeeze_me=False, struct_as_record=False)
+        declared = set(_cell_strings(data.pop(COLUMNS_VARIABLE, None)))
+        arrays = {}
+        self._collect(data, "", arrays, declared)
         self._arrays = {}
-        self._collect(data, "")
+        for name, (arr, rows) in _orient(arrays, declared).items():
+            self._arrays[name] = arr
+            self.fields[name] = 1 if arr.ndim == 1 else arr.shape[1]
+            self.lengths[name] = rows
+            if arr.ndim == 1 and arr.dtype.kind in "iu":
+                self.integers.add(name)
         lengths = set(self.lengths.values())
         self.rows = lengths.pop() if len(lengths) == 1 else None
 
-    def _collect(self, data: dict, prefix: str) -> None:
+    def _collect(self, data: dict, prefix: str, arrays: dict, declared: set) -> None:
+        sio = need("scipy.io", "reading MATLAB files")
         for key, value in data.items():
             if key.startswith("__"):
                 continue
             name = prefix + key
-            if isinstance(value, dict):
-                self._collect(value, name + ".")
-                continue
             arr = np.asarray(value)
-            if arr.dtype.kind not in "iufb":
+            if arr.dtype == object and arr.size == 1 and isinstance(arr.item(), sio.matlab.mat_struct):
+                struct = arr.item()
+                self._collect({k: getattr(struct, k) for k in struct._fieldnames}, name + ".", arrays, declared)
                 continue
-            if arr.size == 1:
+            if arr.dtype.kind not in "iufb" or arr.ndim > 2:
+                continue
+            if arr.size == 1 and name not in declared:
                 self.scalars[name] = float(arr.reshape(()))
-            elif arr.ndim in (1, 2):
-                if arr.ndim == 2 and arr.shape[0] < arr.shape[1]:
-                    arr = arr.T
-                self._arrays[name] = arr
-                self.fields[name] = 1 if arr.ndim == 1 else arr.shape[1]
-                self.lengths[name] = arr.shape[0]
+            else:
+                arrays[name] = arr
 
-    def chunks(self, names, chunk_rows, start=0, stop=None):
+    def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named variables, ``chunk_rows`` at a time."""
+        chunk_rows = check_chunk_rows(chunk_rows)
         names = list(names)
         n = min(self.lengths[name] for name in names) if names else 0
         stop = n if stop is None else min(stop, n)
-        for a in range(start, stop, max(chunk_rows, 1)):
+        origins = {}
+        for name in set(relative) & self.integers & set(names):
+            origins[name] = self._int_origin(name, self._arrays[name][0] if self.lengths[name] else None)
+        for a in range(start, stop, chunk_rows):
             b = min(a + chunk_rows, stop)
-            yield a, {name: np.asarray(self._arrays[name][a:b], dtype=np.float64) for name in names}
+            yield a, {name: _from_origin(self._arrays[name][a:b], origins.get(name)) for name in names}
+
+
+#: The variable of a MATLAB file written by this package that lists its columns (a cell array of names).
+COLUMNS_VARIABLE = "strapdown_columns"
+
+
+def _cell_strings(value) -> list[str]:
+    """The strings of a cell array (or of one char array) as loaded by scipy.io, unsqueezed."""
+    if value is None:
+        return []
+    arr = np.asarray(value)
+    if arr.dtype.kind == "U":
+        return [str(s) for s in arr.reshape(-1)]
+    return [str(np.asarray(item).reshape(-1)[0]) if np.asarray(item).size else "" for item in arr.reshape(-1)]
+
+
+def _orient(arrays: dict, declared: set) -> dict:
+    """Each (a, b) array as (rows, values): 1-D for columns, (rows, k) for fields of width k, and its row count.
+
+    An array may be read as stored (a rows) or transposed (b rows); it takes the reading whose row count the
+    most arrays prefer (ties: the one the most arrays can have), else its own preference.  Preferred: the
+    longer axis as rows for vectors and wide arrays, as stored for arrays up to 4 wide (a quaternion), so
+    that a short log's (2, 3) stays two rows of three; declared columns are columns.
+    """
+    options = {}
+    for name, arr in arrays.items():
+        a, b = arr.shape if arr.ndim == 2 else (arr.shape[0], 1)
+        stored, transposed = (a, arr.reshape(a, b)), (b, arr.reshape(a, b).T)
+        if arr.size == 0:
+            choices = [(0, np.zeros((0, max(a, b, 1)), arr.dtype))]
+        elif name in declared:
+            choices = [stored if b == 1 else transposed]
+        elif a == 1 or b == 1:
+            column = stored if b == 1 else transposed
+            row = transposed if b == 1 else stored
+            choices = [column, row] if max(a, b) > 4 else [row, column]
+        elif a >= b or b <= 4:
+            choices = [stored, transposed]
+        else:
+            choices = [transposed, stored]
+        options[name] = choices
+    counts = {rows for choices in options.values() for rows, _ in choices}
+    score = {
+        n: (sum(c[0][0] == n for c in options.values()), sum(any(r == n for r, _ in c) for c in options.values()))
+        for n in counts
+    }
+    best = max(score, key=score.get) if score else None
+    out = {}
+    for name, choices in options.items():
+        rows, arr = next(((r, v) for r, v in choices if r == best), choices[0])
+        out[name] = (arr[:, 0] if arr.shape[1] == 1 else arr, rows)
+    return out
 
 
 def read_table(path, names: Sequence[str] | None = None, format: str | None = None) -> dict:

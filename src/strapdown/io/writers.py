@@ -19,7 +19,7 @@ import numpy as np
 
 from .._files import atomic_path
 from ._deps import need
-from .readers import format_of
+from .readers import COLUMNS_VARIABLE, format_of
 
 __all__ = ["TableWriter", "table_writer", "write_table"]
 
@@ -29,6 +29,7 @@ class TableWriter:
 
     def __init__(self, path: Path, format: str, metadata: Mapping[str, str] | None = None):
         self.path = Path(path)
+        self.target = self.path  # the file named in messages (table_writer writes to a temporary beside it)
         self.format = format
         self.metadata = dict(metadata or {})
         self.names: list[str] | None = None
@@ -64,6 +65,9 @@ class TableWriter:
             # dictionaries pay for repeated values (flags), not for measurements: trying them costs time and memory
             small = [n for n, v in columns.items() if np.asarray(v).dtype.itemsize == 1]
             self._sink = pq.ParquetWriter(str(self.path), schema, compression="snappy", use_dictionary=small or False)
+        elif self.format == "mat":
+            # empty parts fix each column's type, so that a table without rows is still written whole
+            self._parts = {n: [np.asarray(v)[:0]] for n, v in columns.items()}
         elif self.format == "hdf5":
             h5py = need("h5py", "writing HDF5 files")
             self._sink = h5py.File(str(self.path), "w", track_order=True)  # columns read back in order
@@ -90,17 +94,23 @@ class TableWriter:
             self._parts.setdefault(name, []).append(np.asarray(v))
 
     def close(self) -> None:
-        """Finish the file (a MATLAB file is written here)."""
+        """Finish the file (a MATLAB file is written here).
+
+        A table without rows is written with its columns, when a chunk (even an empty one) named them; without
+        any chunk there is no table to write, and a ValueError instead of a file no reader would accept.
+        """
+        if self.names is None:
+            raise ValueError(f"nothing was written to {self.target}: no columns were given")
         if self.format == "mat":
             sio = need("scipy.io", "writing MATLAB files")
-            data = {n: np.concatenate(self._parts.get(n, [])) for n in self.names or []}
+            data = {n: np.concatenate(self._parts[n]) for n in self.names}
             data.update({k: _number(v) for k, v in self.metadata.items()})
+            # MATLAB stores a one-row column like a scalar: the list tells the reader which variables are columns
+            data[COLUMNS_VARIABLE] = np.array(self.names, dtype=object)
             with open(self.path, "wb") as f:
                 sio.savemat(f, data, oned_as="column")
         elif self._sink is not None:
             self._sink.close()
-        elif self.format in ("csv", "parquet", "hdf5"):
-            self.path.write_bytes(b"")  # no chunk at all: an empty file rather than none
         self._sink = None
 
 
@@ -152,6 +162,7 @@ def table_writer(path, format: str | None = None, metadata: Mapping[str, str] | 
     fmt = format_of(path, format)
     with atomic_path(path) as tmp:
         writer = TableWriter(tmp, fmt, metadata)
+        writer.target = Path(path)
         try:
             yield writer
             writer.close()

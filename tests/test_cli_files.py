@@ -239,3 +239,36 @@ def test_a_killed_run_leaves_no_output(tmp_path):
             proc.kill()
     assert proc.returncode == -signal.SIGKILL
     assert not out.exists()  # only the hidden temporary, never a partial att.csv
+
+
+def test_simulated_units_are_named_and_read_back(tmp_path):
+    # the help's own example: degrees, g and nT in an HDF5 file, read back without being told
+    ok("simulate", tmp_path / "chair.h5", "--scenario", "rocking", "--reference", "NED", "--body", "FRD",
+       "--gyro-unit", "deg/s", "--acc-unit", "g", "--mag-unit", "nT", "--duration", 5)  # fmt: skip
+    table = read_table(tmp_path / "chair.h5")
+    assert {"gx_dps", "ax_g", "mx_nT"} <= set(table)
+    ok("integrate", tmp_path / "chair.h5", "-o", tmp_path / "att.csv")
+    gyro = np.radians(stack(table, ["gx_dps", "gy_dps", "gz_dps"]))
+    expected = sd.integrate(gyro[:-1], t=table["t"])
+    np.testing.assert_allclose(stack(read_table(tmp_path / "att.csv"), QUAT), expected, atol=1e-12)
+
+
+def test_convert_takes_the_angle_unit_from_the_names(tmp_path):
+    rng = np.random.default_rng(7)
+    q = sd.canonical(rng.normal(size=(40, 4)))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    e = sd.as_euler(q, "ZYX", degrees=True)
+    src = write_table(tmp_path / "e.csv", {"yaw_deg": e[:, 0], "pitch_deg": e[:, 1], "roll_deg": e[:, 2]})
+    for extra in ([], ["--columns", "yaw_deg,pitch_deg,roll_deg"], ["--degrees"]):
+        ok("convert", src, "--from", "euler", "--to", "quat", "-o", tmp_path / "q.csv", *extra)
+        back = stack(read_table(tmp_path / "q.csv"), QUAT)
+        np.testing.assert_allclose(sd.angle_between(back, q), 0, atol=1e-12)
+    res = run("convert", src, "--from", "euler", "--to", "quat", "--radians", "-o", tmp_path / "r.csv")
+    assert res.returncode == 1 and "named in degrees, but the angles were declared in radians" in res.stderr
+    assert not (tmp_path / "r.csv").exists()
+
+
+def test_chunk_rows_zero_is_refused(tmp_path):
+    src = write_table(tmp_path / "g.csv", {"t": np.arange(10) * 0.01, **{f"g{a}": np.zeros(10) for a in "xyz"}})
+    res = run("integrate", src, "--chunk-rows", 0, "-o", tmp_path / "o.csv")
+    assert res.returncode == 1 and "chunk_rows must be a positive integer, got 0" in res.stderr

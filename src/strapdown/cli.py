@@ -364,7 +364,7 @@ def _integrate_kwargs(p: dict) -> dict:
         "input": p.get("samples") or "rate",
         "rate_frame": p.get("rate_frame") or "body",
         "q0": _q0(p.get("q0")),
-        "chunk_rows": p.get("chunk_rows") or (_CHUNK_ROWS),
+        "chunk_rows": _CHUNK_ROWS if p.get("chunk_rows") is None else p["chunk_rows"],
     }
 
 
@@ -379,7 +379,7 @@ def _estimate_kwargs(p: dict) -> dict:
         "q0": _q0(p.get("q0")),
         "columns": _columns_spec(p, ((n, v.strip()) for n, v in extra)),
         "out": _output_spec(p),
-        "chunk_rows": p.get("chunk_rows") or (_CHUNK_ROWS),
+        "chunk_rows": _CHUNK_ROWS if p.get("chunk_rows") is None else p["chunk_rows"],
     }
 
 
@@ -409,7 +409,8 @@ def _convert_kwargs(p: dict) -> dict:
         "angles_out": angles_out,
         "format": p.get("in_format"),
         "out_format": p.get("out_format"),
-        "chunk_rows": p.get("chunk_rows") or (_CHUNK_ROWS),
+        "chunk_rows": _CHUNK_ROWS if p.get("chunk_rows") is None else p["chunk_rows"],
+        "unit_from_names": p.get("degrees") is None,  # yaw_deg columns are degrees unless told otherwise
     }
 
 
@@ -552,7 +553,11 @@ def _add_file_commands(cli) -> None:
     )
     @click.option("--seq", default="ZYX", show_default=True, help="Euler sequence (upper case intrinsic).")
     @click.option("--to-seq", help="Euler sequence of the output (default: --seq).")
-    @click.option("--degrees", is_flag=True, help="Angles in degrees (input and output).")
+    @click.option(
+        "--degrees/--radians",
+        default=None,
+        help="Angles in degrees or radians, input and output (default: radians; in files, what the names say).",
+    )
     @click.option("--yaw-range", type=click.Choice(["signed", "positive"]), help="Outer Euler angle range.")
     @click.option("--gibbs", type=click.Choice(["gajda", "rodrigues"]), default="gajda", show_default=True)
     @click.option("--columns", metavar="COLS", help="Input columns (file mode; default: the usual names).")

@@ -14,9 +14,10 @@ follows the estimators (a sample acts over the interval that ends at it) and als
 from __future__ import annotations
 
 import inspect
+import re
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +25,16 @@ import numpy as np
 from ..integrate import AttitudeIntegrator
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source
-from .tables import REPRESENTATIONS, Angles, OutputSpec, attitude_columns, column_names, from_values, to_values
+from .tables import (
+    _ANGULAR,
+    REPRESENTATIONS,
+    Angles,
+    OutputSpec,
+    attitude_columns,
+    column_names,
+    from_values,
+    to_values,
+)
 from .writers import table_writer
 
 __all__ = [
@@ -414,13 +424,23 @@ _QUAT_NAMES = (
 _QUAT_ARRAYS = ("q", "quat", "quaternion", "quaternions", "opt_quat", "orientation")
 
 
+def _angle_unit(fields) -> bool | None:
+    """True (degrees) or False (radians) when every field's name ends in ``_deg`` or every one in ``_rad``."""
+    ends = {m.group(1).lower() if (m := re.search(r"[_ ](deg|rad)$", f, re.IGNORECASE)) else None for f in fields}
+    return {"deg": True, "rad": False}.get(ends.pop()) if len(ends) == 1 else None
+
+
 def _representation_fields(fields: dict, rep: str, angles: Angles, given: str | None) -> tuple:
     from .columns import describe_fields, pick_vector
 
     width = REPRESENTATIONS[rep]
     if given:
         return pick_vector(given, fields, "--columns", width=width).fields
-    candidates = [tuple(column_names(rep, angles))]
+    # the names this package writes, in the declared unit first and then in the other one
+    candidates = [
+        tuple(column_names(rep, angles)),
+        tuple(column_names(rep, replace(angles, degrees=not angles.degrees))),
+    ]
     if rep == "quat":
         candidates += list(_QUAT_NAMES)
     for names in candidates:
@@ -483,6 +503,7 @@ def convert_file(
     out_format: str | None = None,
     chunk_rows: int = CHUNK_ROWS,
     progress: Progress | None = None,
+    unit_from_names: bool = True,
 ) -> Report:
     """Convert the attitudes in a file from one representation to another, streaming.
 
@@ -507,6 +528,9 @@ def convert_file(
         Rows per chunk.
     progress : callable, optional
         Called with (rows done, total rows or None) after each chunk.
+    unit_from_names : bool
+        Input columns whose names end in ``_deg`` or ``_rad`` hold angles in that unit: True takes it (for
+        the input, and for the output too), False requires ``angles_in`` to agree (ValueError otherwise).
 
     Returns
     -------
@@ -530,9 +554,19 @@ def convert_file(
     chunk_rows = check_chunk_rows(chunk_rows)
     angles_in, angles_out = angles_in or Angles(), angles_out or Angles()
     output = _output_path(path, output, "convert", out_format)
-    names_out = column_names(target, angles_out)
     with open_source(path, format) as src:
         fields = _representation_fields(src.fields, source, angles_in, columns)
+        named = _angle_unit(fields[-1:] if source == "axis_angle" else fields) if source in _ANGULAR else None
+        if named is not None and named != angles_in.degrees:
+            if not unit_from_names:
+                unit = "degrees" if named else "radians"
+                raise ValueError(
+                    f"the columns {', '.join(fields)} are named in {unit}, but the angles were declared in "
+                    f"{'degrees' if angles_in.degrees else 'radians'}; leave the unit out or declare {unit}"
+                )
+            # the names say the unit: reading yaw_deg as radians would be a silent, plausible-looking error
+            angles_in, angles_out = replace(angles_in, degrees=named), replace(angles_out, degrees=named)
+        names_out = column_names(target, angles_out)
         tcol = pick_vector(time_column, src.fields, "--time", width=1) if time_column else detect_time(src.fields)
         tname = tcol.fields[0] if tcol and tcol.fields[0] not in fields else None
         wanted = ([tname] if tname else []) + list(fields)
@@ -553,6 +587,9 @@ def convert_file(
 
 
 _IMUS = ("ideal", "consumer", "tactical")
+# column-name suffixes of the units simulate_file writes; the SI units (the readers' defaults) go unmarked
+_UNIT_SUFFIX = {"rad/s": "", "deg/s": "_dps", "m/s2": "", "g": "_g", "mg": "_mg", "uT": "", "gauss": "_gauss"}
+_UNIT_SUFFIX |= {"nT": "_nT", "mT": "_mT"}
 
 
 def simulate_file(
@@ -619,7 +656,7 @@ def simulate_file(
     """
     from ..simulate import ImuModel, sample
     from ..simulate.scenarios import scenario as make
-    from .units import scale
+    from .units import parse_unit, scale
 
     t_start = time.perf_counter()
     if imu not in _IMUS:
@@ -633,9 +670,15 @@ def simulate_file(
     if gyro in ("increment", "rotvec"):
         acc = acc / np.diff(data.t)[:, None]  # velocity increments -> mean specific force: acc is always m/s²
     cols = {"t": data.t[:n]}
-    for prefix, values, kind, unit in (("g", data.gyro, "gyro", gyro_unit), ("a", acc, "acc", acc_unit)):
-        cols.update({f"{prefix}{a}": values[:, i] / scale(kind, unit) for i, a in enumerate("xyz")})
-    cols.update({f"m{a}": data.mag[:, i] / scale("mag", mag_unit) for i, a in enumerate("xyz")})
+    for prefix, values, kind, unit in (
+        ("g", data.gyro, "gyro", gyro_unit),
+        ("a", acc, "acc", acc_unit),
+        ("m", data.mag, "mag", mag_unit),
+    ):
+        # a unit other than the readers' default goes into the names (gx_dps, ax_g, mx_nT): the file must say
+        # what it holds, or reading it back would take degrees for radians
+        suffix = _UNIT_SUFFIX[parse_unit(kind, unit)]
+        cols.update({f"{prefix}{a}{suffix}": values[:, i] / scale(kind, unit) for i, a in enumerate("xyz")})
     if truth:
         cols.update({f"{c}_true": data.q_true[:n, i] for i, c in enumerate(("qw", "qx", "qy", "qz"))})
     meta = _metadata(

@@ -74,7 +74,9 @@ class TableWriter:
             for key, value in self.metadata.items():
                 self._sink.attrs[key] = value
             for name, v in columns.items():
-                self._sink.create_dataset(name, shape=(0,), maxshape=(None,), dtype=v.dtype, chunks=(65536,))
+                # HDF5 stores whole chunks: size them by the first chunk of rows, so a short table stays small
+                rows = min(65536, max(1024, len(v)))
+                self._sink.create_dataset(name, shape=(0,), maxshape=(None,), dtype=v.dtype, chunks=(rows,))
 
     def _write_csv(self, columns) -> None:
         pc = need("pyarrow.csv", "writing CSV files")

@@ -5,7 +5,7 @@ import pytest
 from click.testing import CliRunner
 
 from strapdown.cli import _build
-from strapdown.io import write_table
+from strapdown.io import ImuColumns, write_table
 
 N = 400
 
@@ -165,3 +165,17 @@ def test_chunk_rows_must_be_positive(cli, tmp_path):
             with open_source(write_table(tmp_path / f"a.{fmt}", imu(n=3))) as src, pytest.raises(ValueError):
                 next(src.chunks(["t"], bad))
     assert not (tmp_path / "o.csv").exists()
+
+
+@pytest.mark.parametrize("value", ["-1", "nan"])
+def test_max_gap_must_be_a_number_of_periods(cli, tmp_path, value):
+    src = write_table(tmp_path / "g.csv", {"t": np.arange(10) * 0.01, **{f"g{a}": np.zeros(10) for a in "xyz"}})
+    res = invoke(cli, "integrate", src, "--max-gap", value)
+    assert res.exit_code == 2 and "--max-gap" in res.output and "sample periods >= 0" in res.output
+    with pytest.raises(ValueError, match="max_gap must be a number of sample periods"):
+        ImuColumns(max_gap=float(value))
+
+
+def test_typed_numbers_must_be_finite(cli):
+    res = invoke(cli, "convert", "--from", "quat", "nan", "0", "0", "0")
+    assert res.exit_code == 2 and "the numbers must be finite" in res.output

@@ -319,8 +319,13 @@ def _q0(text: str | None, option: str = "--q0"):
 
 
 def _columns_spec(p: dict, extra=()):
+    import click
+
     from .io import ImuColumns
 
+    max_gap = p.get("max_gap", 10.0)
+    if not max_gap >= 0:  # NaN included
+        raise click.BadParameter(f"sample periods >= 0 (0: no check), got {max_gap}", param_hint="--max-gap")
     return ImuColumns(
         gyro=p.get("gyro"),
         acc=p.get("acc"),
@@ -332,7 +337,7 @@ def _columns_spec(p: dict, extra=()):
         mag_unit=p.get("mag_unit"),
         time_unit=p.get("time_unit"),
         extra=tuple(extra),
-        max_gap=p.get("max_gap", 10.0),
+        max_gap=max_gap,
         unit_check=not p.get("no_unit_check", False),
         format=p.get("in_format"),
     )
@@ -826,6 +831,8 @@ def _convert_values(args, p: dict) -> None:
     angles_in, angles_out = _angles_in_out(p)
     targets = list(REPRESENTATIONS) if p.get("target") in (None, "all") else [p["target"]]
     values = np.array([[float(a) for a in args]])
+    if not np.isfinite(values).all():  # in a file a NaN row is an unknown attitude; typed here it is a mistake
+        raise click.UsageError(f"the numbers must be finite, got {' '.join(args)}")
     try:
         results = {t: convert_values(values, source, t, angles_in, angles_out)[0] for t in targets}
     except ValueError as exc:

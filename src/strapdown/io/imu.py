@@ -75,6 +75,11 @@ class ImuColumns:
     unit_check: bool = True
     format: str | None = None
 
+    def __post_init__(self):
+        # NaN would switch the check off without a word, a negative limit would fail every file
+        if not (isinstance(self.max_gap, int | float) and self.max_gap >= 0):
+            raise ValueError(f"max_gap must be a number of sample periods >= 0 (0: no check), got {self.max_gap!r}")
+
 
 @dataclass
 class ImuChunk:

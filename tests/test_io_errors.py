@@ -179,3 +179,10 @@ def test_max_gap_must_be_a_number_of_periods(cli, tmp_path, value):
 def test_typed_numbers_must_be_finite(cli):
     res = invoke(cli, "convert", "--from", "quat", "nan", "0", "0", "0")
     assert res.exit_code == 2 and "the numbers must be finite" in res.output
+
+
+def test_infinite_values_are_called_so(cli, tmp_path):
+    cols = imu()
+    cols["gy"][7] = np.inf
+    msg = failure(cli, "integrate", write_table(tmp_path / "inf.csv", cols))
+    assert "infinite values at line 9" in msg and "'gy'" in msg

@@ -8,7 +8,7 @@ Every chunk is checked before anything is computed from it, and a problem raises
 user needs to fix it: the file, the column and the line (CSV) or row:
 
 * a column that is not there (the message lists those that are), arrays of different lengths (HDF5, .mat);
-* NaN or empty values (the first line numbers);
+* NaN, empty or infinite values (the first line numbers);
 * time that does not increase (where, and the two values), gaps longer than ``max_gap`` sample periods;
 * units that the magnitudes contradict (:func:`strapdown.io.units.check_plausible`).
 """
@@ -339,8 +339,9 @@ class ImuFile:
         unit = self.where(row).split()[0] + ("s" if rows.size > 1 else "")
         more = f" (and {rows.size - 5} more in rows {row}-{row + n - 1})" if rows.size > 5 else ""
         first = culprit[min(culprit)]
+        what = "NaN or empty values" if np.isnan(np.asarray(cols[first])[rows[0]]).any() else "infinite values"
         raise ValueError(
-            f"{self.path}: NaN or empty values at {unit} {shown}{more}, first in column {first!r}; remove or fill "
+            f"{self.path}: {what} at {unit} {shown}{more}, first in column {first!r}; remove or fill "
             "those rows (their readings are unknown, and every later attitude depends on them)"
         )
 

@@ -442,7 +442,15 @@ def _combine(qf, qb, wf, wb, align_heading: bool) -> np.ndarray:
 
 
 def attitude_offline(
-    gyr, acc, mag=None, *, dt=None, t=None, params: AttitudeParams | None = None, frame: str = "ENU"
+    gyr,
+    acc,
+    mag=None,
+    *,
+    dt=None,
+    t=None,
+    params: AttitudeParams | None = None,
+    frame: str = "ENU",
+    known_acc=None,
 ) -> Estimate:
     """Orientation from a whole recording, using the future as well as the past (module notes, step 6).
 
@@ -463,12 +471,15 @@ def attitude_offline(
         As for :func:`attitude` (the whole recording).
     params : AttitudeParams or mapping, optional
         Parameters, their online values (the factor is applied here); a mapping overrides the defaults by name.
+    known_acc : array_like, shape (N, 3), optional
+        Kinematic acceleration to subtract from ``acc``, m/s² (as for :func:`attitude`).
 
     Returns
     -------
     Estimate
-        Attitudes, the mean of the two passes' bias estimates, and flags: rest and missing accelerometer from
-        the forward pass, magnetic disturbance from either.
+        Attitudes, the two passes' bias estimates weighted by their inverse variances, with the standard
+        deviation of that mean (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest and
+        missing accelerometer from the forward pass, magnetic disturbance from either.
 
     Examples
     --------
@@ -488,9 +499,13 @@ def attitude_offline(
     a = np.asarray(acc, dtype=np.float64)
     m = None if mag is None else np.asarray(mag, dtype=np.float64)
     fwd = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
-    fwd6 = fwd.update(g, a, dt=dt, t=t)  # validates every input before anything else is done with them
+    fwd6 = fwd.update(g, a, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
+    if known_acc is not None:
+        a = a - np.asarray(known_acc, dtype=np.float64)  # validated by the forward pass
     if g.shape[0] == 0:  # nothing to smooth
-        return AttitudeEstimator(po, frame=frame).update(g, a, m, dt=dt, t=t)
+        empty = AttitudeEstimator(po, frame=frame).update(g, a, m, dt=dt, t=t)
+        empty.extra = {"bias_sigma": np.zeros((0, 3))}
+        return empty
     gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
     intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
     n = g.shape[0]
@@ -502,6 +517,7 @@ def attitude_offline(
     wb = 1.0 - np.exp(-(time[-1] - time) / po.tau_acc) + 1e-12
     q = _combine(fwd6.q, bwd6.q[::-1], wf, wb, align_heading=True)
     bias_f, bias_b, flags = fwd6.bias, -bwd6.bias[::-1], fwd6.flags.copy()
+    sigma_f, sigma_b = fwd6.extra["bias_sigma"], bwd6.extra["bias_sigma"][::-1]
     if m is not None:
         fwd9 = AttitudeEstimator(po).update(g, a, m, dt=dt, t=t)
         bwd9 = AttitudeEstimator(po).update(gr, ar, mr, dt=dtr, t=tr)
@@ -520,10 +536,14 @@ def attitude_offline(
         else:  # disturbed everywhere (an uncalibrated magnetometer): keep the forward 9D pass's mean heading
             q = _align_heading(fwd9.q, q, np.ones(n))
         bias_f, bias_b = fwd9.bias, -bwd9.bias[::-1]
+        sigma_f, sigma_b = fwd9.extra["bias_sigma"], bwd9.extra["bias_sigma"][::-1]
         flags = (fwd9.flags & np.uint8(0xFF ^ FLAG_MAG_REJECTED)) | np.where(disturbed, FLAG_MAG_REJECTED, 0).astype(
             np.uint8
         )
     if frame != "ENU":
         q = multiply(frame_quaternion("ENU", frame), q, check=False)
-    bias = (wf[:, None] * bias_f + wb[:, None] * bias_b) / (wf + wb)[:, None]
-    return Estimate(q=q, frame=frame, bias=bias, flags=flags)
+    # the two passes' bias estimates, each weighted by how well it knows the bias (inverse variance)
+    info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
+    bias = (info_f * bias_f + info_b * bias_b) / (info_f + info_b)
+    sigma = 1.0 / np.sqrt(info_f + info_b)
+    return Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})

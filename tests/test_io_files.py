@@ -282,3 +282,29 @@ def test_a_short_hdf5_table_stays_small(tmp_path):
     path = write_table(tmp_path / "short.h5", cols)
     assert path.stat().st_size < 8 * 1024 * 8 * 2  # at most a 1024-row chunk per column, and some overhead
     np.testing.assert_array_equal(read_table(path)["c7"], cols["c7"])
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "h5", "mat", "csv"])
+def test_metadata_is_read_back_where_the_format_keeps_it(tmp_path, fmt):
+    from strapdown.io import read_metadata
+
+    meta = {"strapdown_command": "estimate", "frame": "NED"}
+    path = write_table(tmp_path / f"a.{fmt}", {"x": np.arange(3.0)}, metadata=meta)
+    assert read_metadata(path) == ({} if fmt == "csv" else meta)
+
+
+def test_a_truth_in_another_frame_is_re_expressed_for_the_error_plot(tmp_path):
+    from strapdown.io.plots import _truth_in_frame_of
+
+    rng = np.random.default_rng(2)
+    q_enu = rng.normal(size=(20, 4))
+    q_enu /= np.linalg.norm(q_enu, axis=1, keepdims=True)
+    q_ned = sd.change_frame(q_enu, ref_from="ENU", ref_to="NED")
+    est = write_table(tmp_path / "est.parquet", dict(zip(["qw", "qx", "qy", "qz"], q_ned.T, strict=True)),
+                      metadata={"frame": "NED"})  # fmt: skip
+    truth = write_table(tmp_path / "sim.h5", {"x": np.zeros(20)}, metadata={"reference": "ENU"})
+    moved, note = _truth_in_frame_of(est, truth, q_enu)
+    np.testing.assert_allclose(sd.angle_between(moved, q_ned), 0.0, atol=1e-12)
+    assert note == " (truth taken from ENU to NED)"
+    unnamed = write_table(tmp_path / "sim.csv", {"x": np.zeros(20)})
+    assert _truth_in_frame_of(est, unnamed, q_enu)[0] is q_enu  # nothing said, nothing changed

@@ -27,7 +27,7 @@ True
 
 from .imu import ImuChunk, ImuColumns, ImuFile, read_imu
 from .pipeline import Report, convert_file, default_output, estimate_file, integrate_file, simulate_file
-from .readers import FORMATS, Source, format_of, open_source, read_table
+from .readers import FORMATS, Source, format_of, open_source, read_metadata, read_table
 from .tables import REPRESENTATIONS, Angles, OutputSpec, attitude_columns, column_names, from_values, to_values
 from .units import UNITS
 from .writers import TableWriter, table_writer, write_table
@@ -54,6 +54,7 @@ __all__ = [
     "integrate_file",
     "open_source",
     "read_imu",
+    "read_metadata",
     "read_table",
     "simulate_file",
     "table_writer",

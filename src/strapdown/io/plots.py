@@ -13,7 +13,7 @@ import numpy as np
 
 from .._files import atomic_path
 from ._deps import need
-from .readers import open_source
+from .readers import open_source, read_metadata
 from .tables import Angles, column_names, to_values
 
 __all__ = ["plot_file"]
@@ -143,6 +143,8 @@ def plot_file(
             )
         ref = _thinned(truth, list(tnames), max_points, format)
         q_true = np.column_stack([ref[n] for n in tnames])
+        q_true, note = _truth_in_frame_of(path, truth, q_true, format)
+        title = f"{path.name}: attitude error against {Path(truth).name}{note}"
         errors = attitude_errors(q, q_true)
         fig, ax = plt.subplots(figsize=(10, 4))
         scale = 180 / np.pi if angles.degrees else 1.0
@@ -150,7 +152,7 @@ def plot_file(
             ax.plot(t, errors[name] * scale, lw=0.8, label=name)
         ax.set_ylabel(f"error [{unit}]")
         ax.set_xlabel(xlabel)
-        ax.set_title(f"{path.name}: attitude error against {Path(truth).name}")
+        ax.set_title(title)
         ax.legend()
         save(fig, "errors")
 
@@ -164,6 +166,29 @@ def plot_file(
         ax.legend()
         save(fig, "bias")
     return written
+
+
+def _truth_in_frame_of(path, truth, q_true: np.ndarray, format=None) -> tuple[np.ndarray, str]:
+    """The true attitudes re-expressed in the frame of ``path``'s attitudes, when both files name theirs.
+
+    An estimate in NED against a simulated truth in ENU would otherwise show a half turn as its error.
+    Returns the attitudes and a note for the figure ("" when nothing was changed).
+    """
+    ours, theirs = _frame_of(path, format, "frame"), _frame_of(truth, format, "reference", "frame")
+    if not (ours and theirs and ours != theirs):
+        return q_true, ""
+    from ..frames import change_frame
+
+    return change_frame(q_true, ref_from=theirs, ref_to=ours), f" (truth taken from {theirs} to {ours})"
+
+
+def _frame_of(path, format, *keys: str) -> str | None:
+    """The reference frame a file's metadata names under the first of ``keys`` present, upper case."""
+    meta = read_metadata(path, format)
+    for key in keys:
+        if meta.get(key):
+            return meta[key].upper()
+    return None
 
 
 def _rows(path, format) -> int:

@@ -20,7 +20,7 @@ import numpy as np
 
 from ._deps import need
 
-__all__ = ["FORMATS", "Source", "format_of", "open_source", "read_table"]
+__all__ = ["FORMATS", "Source", "format_of", "open_source", "read_metadata", "read_table"]
 
 #: File suffixes and the format they mean.
 FORMATS = {
@@ -161,6 +161,55 @@ def check_chunk_rows(chunk_rows) -> int:
     if isinstance(chunk_rows, bool) or not isinstance(chunk_rows, int | np.integer) or chunk_rows < 1:
         raise ValueError(f"chunk_rows must be a positive integer, got {chunk_rows!r}")
     return int(chunk_rows)
+
+
+def read_metadata(path, format: str | None = None) -> dict[str, str]:
+    """The text that strapdown stores with a table: the command, frame, units and so on.
+
+    Parameters
+    ----------
+    path : path-like
+        A file written by :func:`~strapdown.io.write_table` or a command.
+    format : {"csv", "parquet", "hdf5", "mat"}, optional
+        Overrides the suffix.
+
+    Returns
+    -------
+    dict of str to str
+        Parquet schema metadata, HDF5 root attributes or MATLAB text variables; empty for CSV, which has no
+        place for it, and for files that carry none.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import read_metadata, write_table
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> path = write_table(folder / "a.parquet", {"x": np.zeros(2)}, metadata={"frame": "NED"})
+    >>> read_metadata(path)
+    {'frame': 'NED'}
+    """
+    fmt = format_of(path, format)
+    out: dict[str, str] = {}
+    if fmt == "parquet":
+        pq = need("pyarrow.parquet", "reading Parquet files")
+        for key, value in (pq.read_schema(str(path)).metadata or {}).items():
+            if not key.startswith(b"ARROW:"):  # Arrow's own schema, not ours
+                out[key.decode(errors="replace")] = value.decode(errors="replace")
+    elif fmt == "hdf5":
+        h5py = need("h5py", "reading HDF5 files")
+        with h5py.File(str(path), "r") as f:
+            for key, value in f.attrs.items():
+                if isinstance(value, bytes | str):
+                    out[key] = value.decode(errors="replace") if isinstance(value, bytes) else value
+    elif fmt == "mat":
+        sio = need("scipy.io", "reading MATLAB files")
+        try:
+            names = [name for name, _, kind in sio.whosmat(str(path)) if kind == "char"]
+            data = sio.loadmat(str(path), variable_names=names) if names else {}
+        except (NotImplementedError, ValueError):  # v7.3 is HDF5 underneath; this metadata is not written there
+            return {}
+        out = {n: str(np.asarray(data[n]).ravel()[0]) for n in names if np.asarray(data[n]).size}
+    return out
 
 
 def open_source(path, format: str | None = None) -> Source:

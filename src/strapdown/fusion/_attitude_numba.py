@@ -39,7 +39,11 @@ TACC = 101  # 1: seconds since the last accelerometer sample
 AFO = 102  # 3: the accelerometer filter's last output, in I
 AFDT = 105  # 1: the interval of the filter's last step, s (0: not stepped yet)
 RESTV = 106  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)²
-SIZE = 107
+AINIT = 107  # 1: seconds of accelerometer averaged at the start (< 0: the averaging is over)
+ASUM = 108  # 3: the sum of the accelerometer samples in I during that time
+ACNT = 111  # 1: how many
+MAGN = 112  # 1: undisturbed heading updates so far
+SIZE = 113
 
 N_REG = 14
 N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
@@ -158,6 +162,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
     f1x, f1y, f1z, f2x, f2y, f2z = s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5]
     mx, my, mz, f_dt = s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT]
+    a_init, a_cnt = s[AINIT], s[ACNT]
+    asx, asy, asz = s[ASUM], s[ASUM + 1], s[ASUM + 2]
     x = s[X : X + 6].copy()
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
@@ -222,15 +228,30 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             ay = acc[k, 1]
             az = acc[k, 2]
             ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
-            mx = b0 * ix + f1x
-            f1x = b1 * ix - a1 * mx + f2x
-            f2x = b2 * ix - a2 * mx
-            my = b0 * iy + f1y
-            f1y = b1 * iy - a1 * my + f2y
-            f2y = b2 * iy - a2 * my
-            mz = b0 * iz + f1z
-            f1z = b1 * iz - a1 * mz + f2z
-            f2z = b2 * iz - a2 * mz
+            if a_init >= 0.0:
+                # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
+                # in I (VQF starts its filters so).  A low-pass started at the first sample would carry that
+                # sample's linear acceleration for several tau; the mean lets it average out from the start.
+                asx += ix
+                asy += iy
+                asz += iz
+                a_cnt += 1.0
+                mx, my, mz = asx / a_cnt, asy / a_cnt, asz / a_cnt
+                a_init += f_dt
+                if a_init >= tau_acc * (1.0 - 1e-9):  # hand over to the filter, in steady state at the mean
+                    a_init = -1.0
+                    f1x, f1y, f1z = mx * (1.0 - b0), my * (1.0 - b0), mz * (1.0 - b0)
+                    f2x, f2y, f2z = mx * (b2 - a2), my * (b2 - a2), mz * (b2 - a2)
+            else:
+                mx = b0 * ix + f1x
+                f1x = b1 * ix - a1 * mx + f2x
+                f2x = b2 * ix - a2 * mx
+                my = b0 * iy + f1y
+                f1y = b1 * iy - a1 * my + f2y
+                f2y = b2 * iy - a2 * my
+                mz = b0 * iz + f1z
+                f1z = b1 * iz - a1 * mz + f2z
+                f2z = b2 * iz - a2 * mz
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -287,6 +308,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 ex_sum,
                 ey_sum,
                 rest >= rest_time,
+                a_init >= 0.0,
                 rgx,
                 rgy,
                 rgz,
@@ -315,6 +337,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
     s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5] = f1x, f1y, f1z, f2x, f2y, f2z
     s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT] = mx, my, mz, f_dt
+    s[AINIT], s[ACNT] = a_init, a_cnt
+    s[ASUM], s[ASUM + 1], s[ASUM + 2] = asx, asy, asz
     s[X : X + 6] = x
     s[ACC : ACC + 24] = sums[:24]
     s[W2] = sums[24]
@@ -410,7 +434,9 @@ def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
 
 
 @nb.njit(cache=True, error_model="numpy")
-def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, rest_var, use_mag, p, H, z, R, PHt, K, tmp, work):
+def _block(
+    s, P, x, accu, T, ex_sum, ey_sum, at_rest, starting, rgx, rgy, rgz, rest_var, use_mag, p, H, z, R, PHt, K, tmp, work
+):
     """The block-rate part: regressor filter, Kalman updates of bias and scale, magnetometer heading."""
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
     r_motion, kappa2, r_rest, r_mag, clip = p[4], p[5], p[6], p[7], p[12]
@@ -459,7 +485,8 @@ def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, rest_var, u
     z[1] = lp[13] - ey_sum / T
     R[0] = rm
     R[1] = rm
-    kalman(x, P, H, z, R, 2, PHt, K, tmp)
+    if not starting:  # while the start averages, the correction does not follow the low-pass the regression models
+        kalman(x, P, H, z, R, 2, PHt, K, tmp)
     if at_rest:
         for a in range(3):
             for j in range(6):
@@ -480,12 +507,10 @@ def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, rest_var, u
     hz = accu[23] / t_mag
     nrm = math.sqrt(hx * hx + hy * hy + hz * hz)
     dip = math.atan2(-hz, math.sqrt(hx * hx + hy * hy))
-    if s[MREF] <= 0.0:  # first field: it is the reference, and it gives the heading at once
+    if s[MREF] <= 0.0:  # first field: it is the reference
         s[MREF], s[MREF + 1], s[MCUR], s[MCUR + 1] = nrm, dip, nrm, dip
         for i in range(7):
             s[V7 + i] = accu[14 + i] / t_mag
-        # no slow convergence from the start (nor from a start before the magnetometer's first sample)
-        s[DELTA] = math.atan2(hx, hy)
     s[MCUR] += kcur * (nrm - s[MCUR])
     s[MCUR + 1] += kcur * (dip - s[MCUR + 1])
     cn, cdp = s[MCUR], s[MCUR + 1]
@@ -514,7 +539,10 @@ def _block(s, P, x, accu, T, ex_sum, ey_sum, at_rest, rgx, rgy, rgz, rest_var, u
     if not disturbed:
         err = math.atan2(hx, hy) - delta  # the offset that turns the horizontal field to north (+y of ENU)
         err = (err + math.pi) % (2.0 * math.pi) - math.pi
-        delta += kmag * err
+        # the mean of the updates so far until it averages longer than tau_mag (VQF's fast start): the first
+        # field sets the heading at once, also when the estimate started before the magnetometer's first sample
+        s[MAGN] += 1.0
+        delta += max(kmag, 1.0 / s[MAGN]) * err
         delta = (delta + math.pi) % (2.0 * math.pi) - math.pi
         s[DELTA] = delta
     # the vertical bias from the heading offset's rate, once the offset has settled after a disturbance

@@ -9,7 +9,9 @@ How it works
    In I gravity is fixed while linear acceleration averages out (velocity stays bounded), so the filtered
    vector points up however long the body accelerates.  The correction ``q_c`` is the tilt quaternion that
    turns it vertical (math.md §5.5), and ``q_6D = q_c ⊗ q_g``.  Filtering in an almost-inertial frame is the
-   central idea of VQF (Laidig & Seel, Information Fusion 2023).
+   central idea of VQF (Laidig & Seel, Information Fusion 2023).  For the first ``tau_acc`` seconds the filter
+   is the plain mean of the samples in I (as VQF starts), so the first sample's linear acceleration averages
+   out instead of decaying over several time constants; bias and scale are not learnt from motion meanwhile.
 3. Bias and scale in motion.  When b or s is wrong, I turns at ``R(q) (δb + δs ∘ ω)`` and the correction has
    to turn with it.  Seen through the low-pass, the correction's rate is ``LP[R_h(q)] δb + LP[R_h(q) diag ω] δs``
    (R_h: the two horizontal rows of R), so filtering the regressors with the same low-pass turns every block
@@ -23,7 +25,8 @@ How it works
    measurement of the bias on all three axes, as noisy as the gyro's scatter about that mean says.
 5. Heading (9D).  The magnetic field, taken into the 6D frame, gives a heading offset δ that a first-order
    filter (``tau_mag``) follows about the vertical only, so the magnetometer never tilts the estimate:
-   ``q = q_z(δ) ⊗ q_6D``.  The field's norm and dip are compared with a slowly learnt reference; while they
+   ``q = q_z(δ) ⊗ q_6D``; until it has averaged that long it is the mean of the updates so far, so the first
+   field sets the heading at once.  The field's norm and dip are compared with a slowly learnt reference; while they
    differ (a magnet, steel nearby) the magnetometer is left out and flagged.  A disturbance that lasts
    ``mag_new_time`` is taken as a new environment, and a return to the previous field is recognised at once.
    The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
@@ -218,6 +221,10 @@ _LAYOUT = (
     ("acc_filter_output", "AFO", 3),
     ("acc_filter_interval", "AFDT", 1),
     ("rest_gyro_variance", "RESTV", 1),
+    ("acc_start_seconds", "AINIT", 1),
+    ("acc_start_sum", "ASUM", 3),
+    ("acc_start_count", "ACNT", 1),
+    ("mag_updates", "MAGN", 1),
 )
 
 

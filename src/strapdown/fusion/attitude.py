@@ -245,7 +245,9 @@ class AttitudeEstimator(Estimator):
     -----
     ``update(gyr, acc, mag=None, *, dt=None, t=None, known_acc=None)``: gyro in rad/s (finite), accelerometer
     in m/s², magnetic field in any unit; a NaN row in ``acc`` or ``mag`` means no sample of that sensor then;
-    ``known_acc`` is a kinematic acceleration to subtract from the accelerometer.  The
+    ``known_acc`` is a kinematic acceleration to subtract from the accelerometer.  Sample k's accelerometer and
+    magnetometer readings are taken as those at the end of its gyro step; readings averaged over the step lag
+    by half a step, which matters only where half a step's rotation is large (10° at 2000°/s and 100 Hz).  The
     :class:`~strapdown.fusion.Estimate` carries ``q``, ``bias`` (rad/s), ``flags`` (``FLAG_REST``,
     ``FLAG_ACC_REJECTED`` for a missing accelerometer sample, ``FLAG_MAG_REJECTED`` while the field is
     disturbed) and ``extra["bias_sigma"]``, the bias's standard deviation per axis (rad/s).  ``.state`` reads and

@@ -255,13 +255,19 @@ def test_the_magnetometer_moves_the_heading_only():
     assert np.isfinite(nine.q).all()
 
 
-def test_known_acceleration_is_subtracted():
-    # the wheelchair driving and turning: its centripetal and speed-change accelerations tilt the estimate unless
-    # given (wheel odometry would give them; here the simulator's truth)
+@pytest.fixture(scope="module")
+def driving():
+    """The wheelchair driving and turning, and its kinematic acceleration (wheel odometry would give it; here the
+    simulator's truth: the specific force less gravity at the mid-step attitude)."""
     d = sim(RockingPlatform(duration=120.0))
     q_mid = d.q_true[1:] + d.q_true[:-1]
     q_mid /= np.linalg.norm(q_mid, axis=1, keepdims=True)
-    known = d.acc - Rotation.from_quat(q_mid[:, [1, 2, 3, 0]]).inv().apply([0.0, 0.0, 9.80665])
+    return d, d.acc - Rotation.from_quat(q_mid[:, [1, 2, 3, 0]]).inv().apply([0.0, 0.0, 9.80665])
+
+
+def test_known_acceleration_is_subtracted(driving):
+    # centripetal and speed-change accelerations tilt the estimate unless given
+    d, known = driving
     plain = attitude(d.gyro, d.acc, dt=0.01)
     aided = attitude(d.gyro, d.acc, dt=0.01, known_acc=known)
     incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][3000:])) for e in (plain, aided)]
@@ -375,11 +381,8 @@ def test_bias_sigma_at_rest_is_honest_for_noisy_gyros(density_deg):
     assert deg(sigma.max()) < 3 * density_deg  # and still learnt: measured about 1.4 times the density
 
 
-def test_offline_takes_a_known_acceleration_and_reports_the_bias_sigma():
-    d = sim(RockingPlatform(duration=120.0))
-    q_mid = d.q_true[1:] + d.q_true[:-1]
-    q_mid /= np.linalg.norm(q_mid, axis=1, keepdims=True)
-    known = d.acc - Rotation.from_quat(q_mid[:, [1, 2, 3, 0]]).inv().apply([0.0, 0.0, 9.80665])
+def test_offline_takes_a_known_acceleration_and_reports_the_bias_sigma(driving):
+    d, known = driving
     plain = attitude_offline(d.gyro, d.acc, dt=0.01)
     aided = attitude_offline(d.gyro, d.acc, dt=0.01, known_acc=known)
     incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"])) for e in (plain, aided)]

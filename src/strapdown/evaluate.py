@@ -17,7 +17,6 @@ import itertools
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
-from numbers import Real
 
 import numpy as np
 
@@ -36,6 +35,7 @@ from .fusion import (
     TiltEstimator,
     TiltParams,
 )
+from .fusion._base import params_of
 from .metrics import rmse_errors
 from .quaternion import multiply
 
@@ -211,23 +211,7 @@ def make_params(estimator: str, params=None):
     """
     if estimator not in ESTIMATORS:
         raise ValueError(f"unknown estimator {estimator!r}; choose from {', '.join(ESTIMATORS)}")
-    _, cls, _ = ESTIMATORS[estimator]
-    if params is None:
-        return cls()
-    if isinstance(params, cls):
-        return params
-    if not isinstance(params, Mapping):
-        raise ValueError(f"params must be a {cls.__name__} or a mapping of its fields, got {type(params).__name__}")
-    known = [f.name for f in fields(cls)]
-    unknown = [k for k in params if k not in known]
-    if unknown:
-        raise ValueError(f"{estimator} has no parameter {', '.join(unknown)}; its parameters: {', '.join(known)}")
-    defaults = cls()
-    for name, value in params.items():
-        # the parameter objects check ranges, not types: text where a number belongs would fail deep inside
-        if isinstance(getattr(defaults, name), Real) and not isinstance(value, Real):
-            raise ValueError(f"{estimator} parameter {name} must be a number, got {value!r}")
-    return replace(defaults, **params)
+    return params_of(ESTIMATORS[estimator][1], params, estimator)
 
 
 def _runner(estimator, params, use_mag: bool, start: str) -> tuple[Callable[[Trial], np.ndarray], str]:

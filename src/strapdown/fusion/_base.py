@@ -13,8 +13,10 @@ z up) and reports in ``frame``; the body axes are the sensor's own.  The acceler
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
+from numbers import Real
 
 import numpy as np
 
@@ -304,6 +306,32 @@ class Estimator:
 
     def _run(self, gyr, acc, mag, dts, extra_in) -> Estimate:
         raise NotImplementedError
+
+
+def params_of(cls, params, owner: str):
+    """A parameter object of ``cls`` from None (the defaults), an instance, or a mapping of overrides by name.
+
+    ``owner`` names the estimator in messages.  The parameter classes check ranges; this checks names and that
+    numbers are numbers, since text where a number belongs would otherwise fail deep inside a kernel.
+    """
+    if params is None:
+        return cls()
+    if isinstance(params, cls):
+        return params
+    if not isinstance(params, Mapping):
+        raise ValueError(f"params must be a {cls.__name__} or a mapping of its fields, got {type(params).__name__}")
+    known = [f.name for f in fields(cls)]
+    unknown = [k for k in params if k not in known]
+    if unknown:
+        raise ValueError(
+            f"{owner} has no parameter {', '.join(unknown)}; its parameters: {', '.join(known)} "
+            f"(unknown {cls.__name__} field)"
+        )
+    defaults = cls()
+    for name, value in params.items():
+        if isinstance(getattr(defaults, name), Real) and not isinstance(value, Real):
+            raise ValueError(f"{owner} parameter {name} must be a number, got {value!r}")
+    return replace(defaults, **params)
 
 
 def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarray) -> np.ndarray:

@@ -26,8 +26,8 @@ How it works
 5. Heading (9D).  The magnetic field, taken into the 6D frame, gives a heading offset δ that a first-order
    filter (``tau_mag``) follows about the vertical only, so the magnetometer never tilts the estimate:
    ``q = q_z(δ) ⊗ q_6D``; until it has averaged that long it is the mean of the updates so far, so the first
-   field sets the heading at once.  The field's norm and dip are compared with a slowly learnt reference; while they
-   differ (a magnet, steel nearby) the magnetometer is left out and flagged.  A disturbance that lasts
+   field sets the heading at once.  The field's norm and dip are compared with a slowly learnt reference;
+   while they differ (a magnet, steel nearby) the magnetometer is left out and flagged.  A disturbance that lasts
    ``mag_new_time`` is taken as a new environment, and a return to the previous field is recognised at once.
    The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
    see on a level platform.
@@ -47,7 +47,6 @@ range (``benchmarks/bench_attitude.py`` prints the RMSE surface over ``tau_acc``
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 from numbers import Real
 
@@ -55,7 +54,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..quaternion import multiply, rotate
-from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _back_to_first_sample, _first_present
+from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _back_to_first_sample, _first_present, params_of
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude", "attitude_offline"]
 
@@ -152,20 +151,6 @@ class AttitudeParams:
                 raise ValueError(f"{f.name} must be {'non-negative' if f.name in zero_ok else 'positive'}, got {v!r}")
         if self.mag_dip_threshold > np.pi:  # 10 meant as degrees would switch the dip test off unnoticed
             raise ValueError(f"mag_dip_threshold is in radians, at most π; got {self.mag_dip_threshold!r}")
-
-    @classmethod
-    def of(cls, params: AttitudeParams | Mapping[str, float] | None) -> AttitudeParams:
-        """``params`` itself, the defaults for None, or the defaults with a mapping's values by name."""
-        if params is None:
-            return cls()
-        if isinstance(params, Mapping):
-            unknown = sorted(set(params) - {f.name for f in fields(cls)})
-            if unknown:
-                raise ValueError(f"unknown AttitudeParams field(s): {', '.join(unknown)}")
-            return cls(**params)
-        if not isinstance(params, cls):
-            raise TypeError(f"params must be AttitudeParams, a mapping or None, got {type(params).__name__}")
-        return params
 
     def _vector(self) -> np.ndarray:
         """The kernel's parameter vector (run() in _attitude_numba.py)."""
@@ -270,7 +255,7 @@ class AttitudeEstimator(Estimator):
     heading_from_first_field = True
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
-        super().__init__(AttitudeParams.of(params), q0=q0, frame=frame)
+        super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
 
     def update(self, gyr, acc, mag=None, *, dt=None, t=None, known_acc=None) -> Estimate:
         """Process a chunk of samples; any chunking gives the same result.
@@ -501,7 +486,7 @@ def attitude_offline(
     from ..frames import frame_quaternion
     from ._attitude_numba import smooth_directions
 
-    p = AttitudeParams.of(params)
+    p = params_of(AttitudeParams, params, "attitude")
     f = p.offline_time_factor
     po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
     g = _v.vectors(gyr, "gyr", dtype=np.float64)

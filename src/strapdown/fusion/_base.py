@@ -141,8 +141,9 @@ class Estimator:
     natural_frame = "ENU"
     estimates_bias = False
     reports_flags = False  # True: the Estimate carries per-sample flags
-    missing_samples = False  # True: NaN rows of acc and mag mean "no sample" (sensors at different rates)
-    heading_from_first_field = False  # True: 9D may start before the first magnetometer sample
+    # True: NaN rows of acc and mag mean "no sample" (sensors at different rates); such an estimator must take its
+    # heading from the first field it gets, as 9D may start before the magnetometer's first sample
+    missing_samples = False
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -288,17 +289,14 @@ class Estimator:
     def _initial(self, gyr, acc, mag, dts, extra_in) -> np.ndarray:
         """Initial attitude in the natural frame from the first sample: tilt from acc, heading from mag.
 
-        With missing samples allowed, the first accelerometer and magnetometer samples present are used, turned
-        back by the gyro to the sensor axes of the first sample (which the attitude is for).  An estimator that
-        takes its heading from the first field it gets (``heading_from_first_field``) starts from the tilt
-        alone when the first sample has no field, whatever the chunk holds, so that any chunking starts alike.
+        With missing samples allowed, the first accelerometer sample present is used, turned back by the gyro to
+        the sensor axes of the first sample (which the attitude is for).  A first sample without a field (only
+        possible then) starts from the tilt alone, whatever the chunk holds, so that any chunking starts alike:
+        such an estimator takes its heading from the first field it gets.
         """
         ka = _first_present(acc, "acc")
         a = _back_to_first_sample(gyr, dts, ka, acc[ka])
-        m = None
-        if mag is not None and not (self.heading_from_first_field and np.isnan(mag[0, 0])):
-            km = _first_present(mag, "mag")
-            m = _back_to_first_sample(gyr, dts, km, mag[km])
+        m = None if mag is None or np.isnan(mag[0, 0]) else mag[0]
         return initial_attitude(a, m, self.natural_frame)
 
     def _new_state(self, q, gyr, acc, mag, dts, extra_in) -> dict:

@@ -252,7 +252,6 @@ class AttitudeEstimator(Estimator):
     estimates_bias = True
     reports_flags = True
     missing_samples = True
-    heading_from_first_field = True
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)

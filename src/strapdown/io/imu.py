@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
-from .readers import Source, check_chunk_rows, open_source
+from .readers import Source, check_chunk_rows, open_source, require_rows
 from .units import check_plausible, parse_unit, scale
 
 __all__ = ["ImuChunk", "ImuColumns", "ImuFile", "read_imu"]
@@ -197,9 +197,8 @@ class ImuFile:
         self._resolve_time()
         self.increments = increments
         self.rows = self._check_lengths()
-        if self.rows == 0 or self.source.rows == 0:
-            # an output of no rows would look like a result; CSV, Parquet, HDF5 and .mat alike stop here
-            raise ValueError(f"{self.path} has no data rows: there are no readings to process")
+        # an output of no rows would look like a result; CSV, Parquet, HDF5 and .mat alike stop here
+        require_rows(self.path, 0 if self.source.rows == 0 else self.rows)
 
     def _resolve_time(self) -> None:
         spec, fields = self.spec, self.source.fields

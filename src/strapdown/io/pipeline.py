@@ -24,7 +24,7 @@ import numpy as np
 
 from ..integrate import AttitudeIntegrator
 from .imu import ImuColumns, ImuFile
-from .readers import check_chunk_rows, format_of, open_source
+from .readers import check_chunk_rows, format_of, open_source, require_rows
 from .tables import (
     _ANGULAR,
     REPRESENTATIONS,
@@ -209,12 +209,6 @@ class _RowTimes:
         return everything[:m]
 
 
-def _require_rows(path, rows: int) -> None:
-    """Stop before an output of no rows is written (inside the writer's block, so that none appears)."""
-    if rows == 0:
-        raise ValueError(f"{path} has no data rows: there are no readings to process")
-
-
 def _output_path(path, output, command: str, format: str | None) -> Path:
     out = Path(output) if output is not None else default_output(path, command, format)
     if path is not None and out.resolve() == Path(path).resolve():
@@ -291,7 +285,6 @@ def integrate_file(
         with table_writer(output, out.format, meta) as w:
             for t, q in stream:
                 w.write(attitude_columns(t, q, out))
-            _require_rows(path, w.rows)
         return Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
 
 
@@ -408,7 +401,6 @@ def estimate_file(
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
                 e = est.update(chunk.gyro, chunk.acc, chunk.mag if use_mag else None, **timing, **chunk.extra)
                 w.write(attitude_columns(chunk.t, e.q, out, e.bias, e.flags))
-            _require_rows(path, w.rows)
         report = Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, output frame {frame.upper()}")
         return report
@@ -582,7 +574,7 @@ def convert_file(
                 done += len(values)
                 if progress is not None:
                     progress(done, src.rows)
-            _require_rows(path, done)
+            require_rows(path, done)  # inside the writer's block, so that no output appears
         return Report(Path(path), output, w.rows, time.perf_counter() - t_start, f"{source}: {','.join(fields)}")
 
 

@@ -163,6 +163,12 @@ def check_chunk_rows(chunk_rows) -> int:
     return int(chunk_rows)
 
 
+def require_rows(path, rows: int | None) -> None:
+    """A ValueError naming ``path`` when it has no data rows (None: not known yet, no error)."""
+    if rows == 0:
+        raise ValueError(f"{path} has no data rows: there are no readings to process")
+
+
 def read_metadata(path, format: str | None = None) -> dict[str, str]:
     """The text that strapdown stores with a table: the command, frame, units and so on.
 

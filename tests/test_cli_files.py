@@ -174,7 +174,7 @@ def test_plot_writes_angle_error_and_bias_figures(logs, tmp_path):
     assert res.stdout.count("written:") == 3
 
 
-def test_help_is_fast_and_imports_nothing_heavy():
+def test_help_imports_nothing_heavy():
     code = (
         "import sys; from strapdown.cli import _build; _build(); "
         "heavy = [m for m in ('numba', 'pyarrow', 'h5py', 'scipy', 'matplotlib', 'distributed', 'tqdm') "
@@ -182,13 +182,8 @@ def test_help_is_fast_and_imports_nothing_heavy():
     )
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
-    best = np.inf
-    for _ in range(3):
-        t0 = time.perf_counter()
-        res = run("--help")
-        best = min(best, time.perf_counter() - t0)
-        assert res.returncode == 0
-    assert best < 0.5, f"strapdown --help took {best:.2f} s"
+    # How long it takes is measured in benchmarks/, never asserted here: a busy machine would fail it.
+    assert run("--help").returncode == 0
 
 
 @pytest.mark.parametrize("command", ["integrate", "estimate", "convert", "simulate", "plot", "batch", "demo"])
@@ -224,9 +219,10 @@ def test_a_killed_run_leaves_no_output(tmp_path):
         stderr=subprocess.DEVNULL,
     )
     try:
-        deadline = time.monotonic() + 60
         partial = []
-        while time.monotonic() < deadline and proc.poll() is None:
+        for _ in range(3000):  # polls 20 ms apart: about a minute at most, an upper bound, not a measurement
+            if proc.poll() is not None:
+                break
             partial = [p for p in tmp_path.iterdir() if p.name.startswith(".att.csv.") and p.stat().st_size > 0]
             if partial:
                 break

@@ -3,7 +3,8 @@
 :func:`plot_file` reads the tables that ``strapdown integrate`` and ``strapdown estimate`` write (``t``,
 ``qw..qz``, ``bias_*``) and a truth (``qw_true..qz_true`` of ``strapdown simulate``, or any ``qw..qz``), streaming
 and thinning long files to at most ``max_points`` rows so that a figure of a day-long log stays small.
-:func:`plot_comparison` draws a :class:`strapdown.compare.Comparison`.  Needs matplotlib (``plot`` extra).
+:func:`comparison_figures` and :func:`plot_comparison` draw a :class:`strapdown.compare.Comparison`.  Needs
+matplotlib (``plot`` extra).
 
 What every figure obeys:
 
@@ -28,7 +29,7 @@ from ._deps import need
 from .readers import open_source, read_metadata
 from .tables import Angles, column_names, to_values
 
-__all__ = ["angles_for_display", "line_styles", "plot_comparison", "plot_file", "save_figures"]
+__all__ = ["angles_for_display", "comparison_figures", "line_styles", "plot_comparison", "plot_file", "save_figures"]
 
 _TRUTH_NAMES = (("qw_true", "qx_true", "qy_true", "qz_true"), ("qw", "qx", "qy", "qz"))
 
@@ -87,7 +88,9 @@ def line_styles(n: int) -> list[dict]:
     return out
 
 
-def angles_for_display(q, angles: Angles | None = None, margin_deg: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
+def angles_for_display(
+    q, angles: Angles | None = None, margin_deg: float = 10.0, align=None
+) -> tuple[np.ndarray, np.ndarray]:
     """Euler angles ready to plot: outer angles unwrapped, and left out near gimbal lock.
 
     Parameters
@@ -99,6 +102,10 @@ def angles_for_display(q, angles: Angles | None = None, margin_deg: float = 10.0
     margin_deg : float
         The first and third angle are not drawn where the middle one is within this many degrees of gimbal
         lock (±90° for sequences of three axes such as ZYX, 0° or 180° for ZXZ-type ones).
+    align : array_like, shape (N, 3), optional
+        Angles of another series from this function (a truth): whole turns are added to the first and third
+        angles, sample by sample, to lay them next to it, and they are left out where it has none, so that an
+        estimate and its truth are drawn on the same branch.
 
     Returns
     -------
@@ -141,6 +148,12 @@ def angles_for_display(q, angles: Angles | None = None, margin_deg: float = 10.0
         edges = np.flatnonzero(np.diff(np.r_[0, shown.astype(np.int8), 0]))
         for a, b in zip(edges[::2], edges[1::2], strict=True):
             values[a:b, col] = np.unwrap(values[a:b, col], period=period)
+    if align is not None:
+        align = np.asarray(align, dtype=np.float64)
+        if align.shape != values.shape:
+            raise ValueError(f"align must have the shape of the angles {values.shape}, got {align.shape}")
+        for col in (0, 2):
+            values[:, col] += period * np.round((align[:, col] - values[:, col]) / period)  # NaN where either is
     return values, blanked
 
 
@@ -227,13 +240,8 @@ def _angles_axes(plt, t, truth, series, angles: Angles, margin_deg: float, xlabe
         blanked |= b
     shown = []
     for label, q in series.items():
-        v, b = angles_for_display(q, angles, margin_deg)
+        v, b = angles_for_display(q, angles, margin_deg, align=ref)
         blanked |= b
-        if ref is not None:  # whole turns added, sample by sample, to lay the outer angles next to the truth's
-            period = 360.0 if angles.degrees else 2 * np.pi
-            for col in (0, 2):
-                turns = np.round((ref[:, col] - v[:, col]) / period)
-                v[:, col] += period * np.where(np.isfinite(turns), turns, 0.0)
         shown.append((label, v))
     styles = line_styles(len(shown))
     for i, ax in enumerate(axes):
@@ -408,11 +416,7 @@ def _file_figures(path: Path, truth, angles: Angles, max_points: int, format) ->
 
 
 def plot_comparison(comparison, directory, prefix: str = "compare") -> list[Path]:
-    """Write the two figures of a method comparison: Euler angles over time, and every method's error.
-
-    The angles figure draws the truth and the ``exact`` and ``euler-angles`` methods over it, marks where a
-    method stopped at its singularity and shades where yaw and roll are not drawn (near the vertical).  The
-    error figure draws every method in its own colour and dash.
+    """Write the two figures of a method comparison (:func:`comparison_figures`) as PNG files.
 
     Parameters
     ----------
@@ -438,8 +442,42 @@ def plot_comparison(comparison, directory, prefix: str = "compare") -> list[Path
     >>> [p.name for p in plot_comparison(cmp, tempfile.mkdtemp(), "spin")]
     ['spin_angles.png', 'spin_errors.png']
     """
-    plt = _pyplot()
     directory = Path(directory)
+    figures = comparison_figures(comparison)
+    return save_figures({directory / f"{prefix}_{name}.png": fig for name, fig in figures.items()})
+
+
+def comparison_figures(comparison) -> dict:
+    """The figures of a method comparison: Euler angles over time, and every method's error.
+
+    The angles figure draws the truth and the ``exact`` and ``euler-angles`` methods over it, marks where a
+    method stopped at its singularity and shades where yaw and roll are not drawn (near the vertical).  The
+    error figure has one panel per family of methods (quaternion steps, multi-sample coning algorithms, Gajda's
+    baselines), every method in its own colour and dash.
+
+    Parameters
+    ----------
+    comparison : strapdown.compare.Comparison
+        The result of :func:`strapdown.compare.compare`.
+
+    Returns
+    -------
+    dict
+        ``{"angles": Figure, "errors": Figure}`` (matplotlib figures, open: show, save or close them).
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from strapdown.compare import compare
+    >>> from strapdown.io.plots import comparison_figures
+    >>> from strapdown.simulate import ConstantRotation, sample
+    >>> cmp = compare(sample(ConstantRotation([0.0, 0.0, 1.0], duration=1.0), 50.0), methods=["exact", "rk4"])
+    >>> figs = comparison_figures(cmp)
+    >>> [ax.get_title() for ax in figs["errors"].axes]
+    ['quaternion steps']
+    >>> plt.close("all")
+    """
+    plt = _pyplot()
     t = comparison.data.t
     title = comparison.title.strip() or "attitude"
     figures = {}
@@ -463,7 +501,7 @@ def plot_comparison(comparison, directory, prefix: str = "compare") -> list[Path
                     textcoords="offset points",
                 )
         fig.suptitle(title)
-        figures[directory / f"{prefix}_angles.png"] = fig
+        figures["angles"] = fig
 
         # small multiples by family, each method also in its own style: 17 lines in one panel cannot be read
         results = list(comparison.results)
@@ -487,12 +525,12 @@ def plot_comparison(comparison, directory, prefix: str = "compare") -> list[Path
             ax.legend(fontsize=8, loc="best")
         axes[0, 0].set_ylabel("attitude error [deg]")
         fig.suptitle(f"{title}: attitude error of every method (dotted: a baseline stopped at its singularity)")
-        figures[directory / f"{prefix}_errors.png"] = fig
+        figures["errors"] = fig
     except BaseException:
         for fig in figures.values():
             plt.close(fig)
         raise
-    return save_figures(figures)
+    return figures
 
 
 def _truth_in_frame_of(path, truth, q_true: np.ndarray, format=None) -> tuple[np.ndarray, str]:

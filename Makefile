@@ -38,8 +38,8 @@ test: $(VENV)/.stamp-test
 	$(BIN)/python -m pytest
 
 lint: $(VENV)/.stamp-test
-	$(BIN)/ruff check src tests benchmarks docs examples
-	$(BIN)/ruff format --check src tests benchmarks docs examples
+	$(BIN)/ruff check src tests benchmarks docs/conf.py docs/_apigen.py examples
+	$(BIN)/ruff format --check src tests benchmarks docs/conf.py docs/_apigen.py examples
 
 bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_representations.py

@@ -14,8 +14,8 @@ against the reference, and the total error (BROAD's measure, :func:`strapdown.me
 time, with the AttitudeEstimator's rest and magnetic-disturbance flags shaded.
 
 BROAD lives beside the repository (``../shared/data/broad``, or set ``STRAPDOWN_BROAD`` to its folder).  When it
-is absent the example runs on a simulated recording of the same kind instead (random motion with rests and a
-magnet passing), so that it always draws its figure.
+is absent the example runs on a simulated recording of the same kind instead (turns and rests with a magnet
+passing, from :func:`strapdown.demo.turns_and_rests`), so that it always draws its figure.
 """
 
 import os
@@ -37,15 +37,19 @@ TRIAL = BROAD / "data_mat" / "29_disturbed_stationary_magnet_B.mat"
 
 
 def simulated_trial():
-    """Random motion, three rests, a magnet held near the sensor: the kind of recording the trial is."""
-    from strapdown.simulate import ImuModel, MagneticDisturbance, RandomMotion, sample
+    """A hand-held sensor turned every way and put down between the turns, a magnet passing: the same kind."""
+    from strapdown.demo import turns_and_rests
+    from strapdown.simulate import ImuModel, MagneticDisturbance, MagneticField, TriadModel, sample
 
-    rate, duration = 100.0, 150.0
+    consumer = ImuModel.consumer_mems()
+    imu = ImuModel(gyro=consumer.gyro, accel=consumer.accel, mag=TriadModel(noise_density=consumer.mag.noise_density))
+    rate = 100.0
     data = sample(
-        RandomMotion(duration=duration, seed=2, rate_scale=1.0),
+        turns_and_rests(),
         rate,
-        imu=ImuModel.consumer_mems(),
-        disturbances=[MagneticDisturbance(start=70.0, duration=15.0, field=[40.0, -30.0, 20.0])],
+        imu=imu,
+        magnetic_field=MagneticField(declination_deg=0.0),
+        disturbances=[MagneticDisturbance(80.0, 95.0, (35.0, -20.0, 25.0))],
         reference="ENU",
         body="FLU",
         seed=2,

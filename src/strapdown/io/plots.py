@@ -223,7 +223,9 @@ def _pyplot():
 def _shade(ax, t, mask, **kw) -> bool:
     """Shade the stretches of ``t`` where ``mask`` holds; True if there was any."""
     edges = np.flatnonzero(np.diff(np.r_[0, np.asarray(mask, dtype=np.int8), 0]))
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
+    for k, (a, b) in enumerate(zip(edges[::2], edges[1::2], strict=True)):
+        if k == 1:
+            kw.pop("label", None)  # one legend entry for all the stretches
         ax.axvspan(t[a], t[min(b, len(t) - 1)], lw=0, **kw)
     return edges.size > 0
 

@@ -1,6 +1,7 @@
 """Sphinx configuration of the strapdown documentation (``make docs``)."""
 
 import os
+import re
 import sys
 import time
 from pathlib import Path
@@ -83,6 +84,22 @@ def _drop_empty_guide_glob(app, docname, source):
             source[0] = source[0][:start] + source[0][end:]
 
 
+# ``...`` literals and `...` roles (math among them) are left as they are; a bar elsewhere is text
+_LITERAL = re.compile(r"(``.+?``|`[^`]+`)")
+
+
+def _escape_bars(app, what, name, obj, options, lines):
+    # Docstrings write |ω|, |q| - 1 for magnitudes; reStructuredText reads |...| as a substitution reference and
+    # fails the build.  Escape bars in running text (not in literals, roles, grid tables or line blocks).
+    for i, line in enumerate(lines):
+        stripped = line.lstrip()
+        if "|" not in line or stripped.startswith(("|", "+-", "+=")):
+            continue
+        parts = _LITERAL.split(line)
+        lines[i] = "".join(p if k % 2 else p.replace("|", "\\|") for k, p in enumerate(parts))
+
+
 def setup(app):
     """Connect the build hooks."""
     app.connect("source-read", _drop_empty_guide_glob)
+    app.connect("autodoc-process-docstring", _escape_bars, priority=600)  # after numpydoc's own rewrite

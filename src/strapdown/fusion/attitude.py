@@ -80,7 +80,7 @@ class AttitudeParams:
         Noise density of the in-motion bias measurement, rad/s·√s (default 0.18°/s·√s: one second of motion
         tells the bias to about that much).
     bias_noise_rate_factor : float
-        Growth of that noise with the angular rate, √s (``noise² += factor² |ω|²``).  Default 6e-4.
+        Growth of that noise with the angular rate, √s (noise² += factor² |ω|²).  Default 6e-4.
     bias_noise_rest : float
         Least noise density of the at-rest bias measurement, rad/s·√s (default 0.0018°/s·√s).  Above it the
         noise comes from the gyro's own scatter at rest, so that ``bias_sigma`` stays honest for noisy gyros.

@@ -38,8 +38,8 @@ test: $(VENV)/.stamp-test
 	$(BIN)/python -m pytest
 
 lint: $(VENV)/.stamp-test
-	$(BIN)/ruff check src tests benchmarks docs/conf.py docs/_apigen.py examples
-	$(BIN)/ruff format --check src tests benchmarks docs/conf.py docs/_apigen.py examples
+	$(BIN)/ruff check src tests benchmarks docs/conf.py docs/_apigen.py docs/_cligen.py examples
+	$(BIN)/ruff format --check src tests benchmarks docs/conf.py docs/_apigen.py docs/_cligen.py examples
 
 bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_representations.py
@@ -55,5 +55,5 @@ docs: $(VENV)/.stamp-docs
 	@echo "open docs/_build/html/index.html"
 
 clean:
-	rm -rf $(VENV) build dist .pytest_cache .ruff_cache .hypothesis docs/_build docs/api docs/auto_examples
+	rm -rf $(VENV) build dist .pytest_cache .ruff_cache .hypothesis docs/_build docs/api docs/cli docs/auto_examples
 	find . -name __pycache__ -type d -prune -exec rm -rf {} +

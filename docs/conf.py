@@ -12,6 +12,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(HERE))
 
 import _apigen
+import _cligen
 
 import strapdown
 
@@ -35,8 +36,9 @@ exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "**
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 
-# The reference is written from each module's __all__ before Sphinx reads any page.
+# The references are written from each module's __all__ and from the click commands before Sphinx reads a page.
 _apigen.write(HERE / "api")
+_cligen.write(HERE / "cli")
 
 autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types

@@ -112,3 +112,20 @@ def test_built_inventory_has_every_name():
         assert name in objects, f"{name} has no page in the built site"
         for entry in apigen.entries(name, modules):
             assert (entry.target or f"{name}.{entry.name}") in objects, f"{name}.{entry.name} is not in the site"
+
+
+def test_every_command_is_in_the_command_line_reference():
+    pytest.importorskip("click")
+    cligen = pytest.importorskip("_cligen")
+    from strapdown.cli import _build
+
+    helps = cligen.command_help()
+    text = cligen.page(helps)
+    import click
+
+    group = _build()
+    names = group.list_commands(click.Context(group))
+    assert names and set(helps) == {"strapdown", *names}
+    for name in names:
+        assert f"\nstrapdown {name}\n" in text, f"strapdown {name} has no section"
+        assert f"Usage: strapdown {name}" in helps[name]

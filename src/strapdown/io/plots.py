@@ -271,6 +271,19 @@ def _angles_axes(plt, t, truth, series, angles: Angles, margin_deg: float, xlabe
     return fig, axes
 
 
+def _time_series(plt, t, lines, ylabel: str, xlabel: str, title: str):
+    """One panel of (label, values, style) lines over time, with grid and legend."""
+    fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
+    for label, values, style in lines:
+        ax.plot(t, values, label=label, **style)
+    ax.set_ylabel(ylabel)
+    ax.set_xlabel(xlabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return fig
+
+
 def _thinned(path, names, max_points: int, format=None) -> dict:
     """Every k-th row of the named fields, k chosen so that at most ``max_points`` rows are kept."""
     with open_source(path, format) as src:
@@ -388,28 +401,19 @@ def _file_figures(path: Path, truth, angles: Angles, max_points: int, format) ->
 
             errors = attitude_errors(q, q_true)
             scale = 180 / np.pi if angles.degrees else 1.0
-            fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
             # total first and widest, so that heading and inclination (each at most the total) stay visible on it
             widths = {"total": 2.4, "heading": 1.2, "inclination": 1.2}
-            for (name, lw), style in zip(widths.items(), line_styles(3), strict=True):
-                ax.plot(t, errors[name] * scale, label=name, **{**style, "lw": lw})
-            ax.set_ylabel(f"error [{unit}]")
-            ax.set_xlabel(xlabel)
-            ax.set_title(f"{path.name}: attitude error against {Path(truth).name}{note}")
-            ax.grid(alpha=0.3)
-            ax.legend()
-            figures["errors"] = fig
+            lines = [
+                (name, errors[name] * scale, {**style, "lw": lw})
+                for (name, lw), style in zip(widths.items(), line_styles(3), strict=True)
+            ]
+            title = f"{path.name}: attitude error against {Path(truth).name}{note}"
+            figures["errors"] = _time_series(plt, t, lines, f"error [{unit}]", xlabel, title)
 
         if bias_names:
-            fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
-            for n, style in zip(bias_names, line_styles(len(bias_names)), strict=True):
-                ax.plot(t, data[n], label=n, **style)
-            ax.set_ylabel("gyro bias")
-            ax.set_xlabel(xlabel)
-            ax.set_title(f"{path.name}: estimated gyro bias")
-            ax.grid(alpha=0.3)
-            ax.legend()
-            figures["bias"] = fig
+            styles = line_styles(len(bias_names))
+            lines = [(n, data[n], style) for n, style in zip(bias_names, styles, strict=True)]
+            figures["bias"] = _time_series(plt, t, lines, "gyro bias", xlabel, f"{path.name}: estimated gyro bias")
     except BaseException:
         for fig in figures.values():
             plt.close(fig)

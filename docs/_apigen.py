@@ -94,9 +94,10 @@ def module_page(module_name: str, modules: list[str]) -> str:
             ref = f":py:mod:`{e.name} <{e.target}>`"
         else:
             ref = f":py:obj:`{e.name} <{e.target or module_name + '.' + e.name}>`"
-        summary = "module" if e.kind == "module" else _summary(getattr(mod, e.name)) if e.kind != "data" else ""
+        obj = getattr(mod, e.name)
+        summary = _summary(obj) if e.kind in ("module", "function", "class") else ""
         if e.target and e.kind != "module":
-            summary = f"from :py:mod:`{e.target.rsplit('.', 1)[0]}`"
+            summary = f"{summary} (in :py:mod:`{e.target.rsplit('.', 1)[0]}`)".strip()
         lines += [f"   * - {ref}", f"     - {summary}"]
     lines.append("")
     directive = {"function": "autofunction", "class": "autoclass", "data": "autodata"}

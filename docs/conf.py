@@ -101,7 +101,13 @@ def _escape_bars(app, what, name, obj, options, lines):
         lines[i] = "".join(p if k % 2 else p.replace("|", "\\|") for k, p in enumerate(parts))
 
 
+def _reread_index(app, env, added, changed, removed):
+    # whether the guide toctree is kept depends on files outside index.md: read it again at every build
+    return ["index"]
+
+
 def setup(app):
     """Connect the build hooks."""
     app.connect("source-read", _drop_empty_guide_glob)
+    app.connect("env-get-outdated", _reread_index)
     app.connect("autodoc-process-docstring", _escape_bars, priority=600)  # after numpydoc's own rewrite

@@ -1,0 +1,151 @@
+"""Numba kernels for :mod:`strapdown.mrp` and :mod:`strapdown.davenport` (private).
+
+The kernels take validated, C-contiguous rows and compute in float64 whatever the storage type; the callers
+allocate ``out`` in the input's dtype.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+
+from ._quaternion_numba import qmul
+
+
+@nb.njit(cache=True)
+def from_mrp_rows(p, out):
+    """Quaternions q = [1 - |p|², 2 p] / (1 + |p|²) (Shuster 1993, §8), scaled by 1/|p|² beyond the unit sphere.
+
+    Dividing through by |p|² for |p| > 1 keeps the shadow parameters of a rotation near 360° (|p| → ∞) from
+    overflowing |p|² and gives the same rotation.
+    """
+    for n in range(out.shape[0]):
+        x = float(p[n, 0])
+        y = float(p[n, 1])
+        z = float(p[n, 2])
+        big = max(abs(x), abs(y), abs(z))
+        if big > 1.0:
+            # q ∝ [1/|p|² - 1, 2 p/|p|²]; p/big first so that the squares cannot overflow
+            xs = x / big
+            ys = y / big
+            zs = z / big
+            s2 = xs * xs + ys * ys + zs * zs  # |p|² / big²
+            inv = 1.0 / (s2 * big * big)  # 1/|p|², underflows harmlessly to 0 for huge p
+            den = inv + 1.0
+            out[n, 0] = (inv - 1.0) / den
+            f = 2.0 / (s2 * big * den)
+            out[n, 1] = xs * f
+            out[n, 2] = ys * f
+            out[n, 3] = zs * f
+        else:
+            n2 = x * x + y * y + z * z
+            den = 1.0 + n2
+            out[n, 0] = (1.0 - n2) / den
+            out[n, 1] = 2.0 * x / den
+            out[n, 2] = 2.0 * y / den
+            out[n, 3] = 2.0 * z / den
+
+
+@nb.njit(cache=True)
+def as_mrp_rows(q, out):
+    """MRPs p = v / (|q| + |w|) with the sign of w: the short set, |p| = tan(χ/4) ≤ 1 for χ in [0, π].
+
+    At w = 0 (χ = 180°) both sets have |p| = 1; the sign rule of ``quaternion.canonical`` (first non-zero
+    component positive) picks one, so q and -q agree.
+    """
+    for n in range(out.shape[0]):
+        w = float(q[n, 0])
+        x = float(q[n, 1])
+        y = float(q[n, 2])
+        z = float(q[n, 3])
+        norm = math.sqrt(w * w + x * x + y * y + z * z)
+        if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
+            s = -1.0
+        else:
+            s = 1.0
+        f = s / (norm + abs(w))
+        out[n, 0] = x * f
+        out[n, 1] = y * f
+        out[n, 2] = z * f
+
+
+@nb.njit(cache=True)
+def from_axes_rows(angles, axes, extrinsic, out):
+    """out[n] = e(n_1, a_1) ⊗ e(n_2, a_2) ⊗ ... (intrinsic) or ... ⊗ e(n_2, a_2) ⊗ e(n_1, a_1) (extrinsic).
+
+    e(n, a) = [cos(a/2), sin(a/2) n] for the unit axes ``axes`` (k, 3); ``angles`` is (N, k).
+    """
+    k = axes.shape[0]
+    for n in range(out.shape[0]):
+        w, x, y, z = 1.0, 0.0, 0.0, 0.0
+        for m in range(k):
+            h = 0.5 * float(angles[n, m])
+            c = math.cos(h)
+            s = math.sin(h)
+            ex, ey, ez = s * axes[m, 0], s * axes[m, 1], s * axes[m, 2]
+            if extrinsic:
+                w, x, y, z = qmul(c, ex, ey, ez, w, x, y, z)
+            else:
+                w, x, y, z = qmul(w, x, y, z, c, ex, ey, ez)
+        out[n, 0] = w
+        out[n, 1] = x
+        out[n, 2] = y
+        out[n, 3] = z
+
+
+@nb.njit(cache=True)
+def _wrap(a):
+    """An angle in (-3π, 3π) wrapped into (-π, π]."""
+    while a > math.pi:
+        a -= 2.0 * math.pi
+    while a <= -math.pi:
+        a += 2.0 * math.pi
+    return a
+
+
+@nb.njit(cache=True)
+def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
+    """Davenport angles of the extrinsic sequence (n1, n2, n3) (the caller reverses an intrinsic one).
+
+    Shuster and Markley (2003), in the direct half-angle form of Bernardes and Viollet (2022) as scipy uses it:
+    with λ the angle from n1 to n3 about n2 (made ≥ 0 by flipping n2, ``flip``), the quaternion
+    q' = [cos(λ/2), sin(λ/2) n2] ⊗ q has the components a = w', b = v'·n1, c = v'·n2, d = v'·(n1 × n2), and
+        a + i b = cos(β/2) e^{i(α+γ)/2},   c + i d = sin(β/2) e^{i(γ-α)/2},   β_Davenport = β - λ.
+    Both half angles come from the same quaternion, so no threshold is needed near gimbal lock; only at the lock
+    itself (c = d = 0 or a = b = 0 exactly) the third angle is set to 0 and the first carries the rotation.
+    """
+    cx = n1[1] * n2[2] - n1[2] * n2[1]
+    cy = n1[2] * n2[0] - n1[0] * n2[2]
+    cz = n1[0] * n2[1] - n1[1] * n2[0]
+    ch = math.cos(0.5 * lam)
+    sh = math.sin(0.5 * lam)
+    for n in range(out.shape[0]):
+        w, x, y, z = qmul(
+            ch, sh * n2[0], sh * n2[1], sh * n2[2], float(q[n, 0]), float(q[n, 1]), float(q[n, 2]), float(q[n, 3])
+        )
+        a = w
+        b = x * n1[0] + y * n1[1] + z * n1[2]
+        c = x * n2[0] + y * n2[1] + z * n2[2]
+        d = x * cx + y * cy + z * cz
+        half_sum = math.atan2(b, a)
+        half_diff = math.atan2(d, c)
+        middle = 2.0 * math.atan2(math.hypot(c, d), math.hypot(a, b))
+        if c == 0.0 and d == 0.0:  # β = 0: only α + γ is defined
+            first = 2.0 * half_sum
+            third = 0.0
+        elif a == 0.0 and b == 0.0:  # β = π: only γ - α is defined
+            first = -2.0 * half_diff if extrinsic else 2.0 * half_diff
+            third = 0.0
+        elif extrinsic:
+            first = half_sum - half_diff
+            third = half_sum + half_diff
+        else:
+            first = half_sum + half_diff
+            third = half_sum - half_diff
+        middle -= lam
+        if flip:
+            middle = -middle
+        out[n, 0] = _wrap(first) * scale
+        out[n, 1] = middle * scale
+        out[n, 2] = _wrap(third) * scale

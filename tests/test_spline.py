@@ -1,0 +1,144 @@
+"""RotationSpline against scipy's RotationSpline, finite differences, and strapdown's own integrator."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+from scipy.spatial.transform import RotationSpline as ScipySpline
+
+from conftest import random_quaternions, rotation_angle
+from strapdown import angle_between, integrate
+from strapdown.interpolate import RotationSpline
+
+
+@pytest.fixture
+def converged_scipy(monkeypatch):
+    """scipy's spline iterated to convergence (its default stops at a change of 1e-9, or after 10 steps)."""
+    monkeypatch.setattr(ScipySpline, "TOL", 1e-15)
+    monkeypatch.setattr(ScipySpline, "MAX_ITER", 200)
+    return ScipySpline
+
+
+def random_walk(n, step, rng):
+    r = Rotation.from_rotvec(step * rng.standard_normal((n, 3)))
+    out = [r[0]]
+    for s in r[1:]:
+        out.append(out[-1] * s)
+    return Rotation.concatenate(out).as_quat(scalar_first=True)
+
+
+@pytest.mark.parametrize("step", [0.01, 0.3, None])  # None: independent uniformly random attitudes
+def test_matches_scipy(step, rng, converged_scipy):
+    n = 60
+    t = np.cumsum(rng.uniform(0.05, 1.0, n))
+    q = random_quaternions(n, rng) if step is None else random_walk(n, step, rng)
+    q *= rng.choice([-1.0, 1.0], (n, 1))  # signs must not matter
+    ours = RotationSpline(t, q)
+    theirs = converged_scipy(t, Rotation.from_quat(q, scalar_first=True))
+    tn = np.concatenate([t, rng.uniform(t[0], t[-1], 5000)])
+    assert rotation_angle(ours(tn), theirs(tn).as_quat(scalar_first=True)).max() < 1e-13
+    rate, acc = theirs(tn, 1), theirs(tn, 2)
+    # 1e-12 relative to the size of the signal (rates up to ~30 rad/s, accelerations ~1e3 for random data)
+    np.testing.assert_allclose(ours(tn, 1), rate, rtol=0, atol=1e-12 * max(1, np.abs(rate).max()))
+    np.testing.assert_allclose(ours(tn, 2), acc, rtol=0, atol=1e-12 * max(1, np.abs(acc).max()))
+
+
+def test_passes_through_samples_with_c2_continuity(rng):
+    n = 30
+    t = np.cumsum(rng.uniform(0.1, 1.0, n))
+    q = random_walk(n, 0.4, rng)
+    s = RotationSpline(t, q)
+    assert rotation_angle(s(t), q).max() < 1e-14
+    eps = 1e-9
+    inner = t[1:-1]
+    for order in (1, 2):  # rate and acceleration just before and just after every inner knot agree
+        jump = np.abs(s(inner + eps, order) - s(inner - eps, order)).max()
+        scale = np.abs(s(inner, order)).max()
+        assert jump < 1e-6 * scale
+    # the third derivative does jump: the spline is C², not C³ (so the test above can fail)
+    d3 = (s(inner + 2 * eps, 2) - s(inner + eps, 2)) / eps - (s(inner - eps, 2) - s(inner - 2 * eps, 2)) / eps
+    assert np.abs(d3).max() > 1e-3
+
+
+def test_rates_are_the_derivative_of_the_attitude(rng):
+    # body rate: q* dq/dt = (0, ω/2); reference rate: dq/dt q* = (0, ω_ref/2); by central differences
+    t = np.arange(20.0)
+    s = RotationSpline(t, random_walk(20, 0.5, rng))
+    tn = rng.uniform(1, 18, 200)
+    h = 1e-6
+    dq = (s(tn + h) - s(tn - h)) / (2 * h)
+    q = s(tn)
+    conj = q * [1, -1, -1, -1]
+    np.testing.assert_allclose(s(tn, 1), 2 * _vec(_mul(conj, dq)), atol=1e-7)
+    np.testing.assert_allclose(s(tn, 1, rate_frame="reference"), 2 * _vec(_mul(dq, conj)), atol=1e-7)
+    dw = (s(tn + h, 1) - s(tn - h, 1)) / (2 * h)
+    np.testing.assert_allclose(s(tn, 2), dw, atol=1e-6)
+    dw_ref = (s(tn + h, 1, rate_frame="reference") - s(tn - h, 1, rate_frame="reference")) / (2 * h)
+    np.testing.assert_allclose(s(tn, 2, rate_frame="reference"), dw_ref, atol=1e-6)
+
+
+def _mul(p, q):
+    """Hamilton product written out independently of strapdown (scalar first)."""
+    pw, pv = p[..., 0], p[..., 1:]
+    qw, qv = q[..., 0], q[..., 1:]
+    w = pw * qw - np.sum(pv * qv, axis=-1)
+    v = pw[..., None] * qv + qw[..., None] * pv + np.cross(pv, qv)
+    return np.concatenate([w[..., None], v], axis=-1)
+
+
+def _vec(q):
+    return q[..., 1:]
+
+
+def test_rates_integrate_back_to_the_knots():
+    """10⁴ knots of smooth motion at 100 Hz: the spline's body rates, integrated by RK4, land on its attitudes."""
+    from strapdown.simulate import RandomMotion
+
+    n = 10_001
+    t = np.arange(n) / 100.0
+    q = RandomMotion(duration=t[-1] + 0.01, seed=1, rate_scale=2.0).attitude(t)
+    s = RotationSpline(t, q)
+    errors = []
+    for sub in (4, 8):
+        ts = np.linspace(t[0], t[-1], (n - 1) * sub + 1)
+        q_int = integrate(s(ts[:-1], 1), t=ts, q0=s(t[0]), method="rk4", input="rate")
+        errors.append(angle_between(q_int[::sub], q).max())
+    assert errors[1] < 1e-10
+    assert errors[0] / errors[1] > 8  # fourth order: the rates are the attitudes' derivative, not just close
+
+
+def test_two_samples_is_slerp_at_constant_rate():
+    q1 = [np.cos(0.5), 0, np.sin(0.5), 0]  # 1 rad about y
+    s = RotationSpline([0.0, 2.0], [[1.0, 0, 0, 0], q1])
+    np.testing.assert_allclose(s([0.0, 0.7, 2.0], 1), [[0, 0.5, 0]] * 3, atol=1e-15)
+    np.testing.assert_allclose(s([0.3, 1.9], 2), 0, atol=1e-15)
+    np.testing.assert_allclose(s(1.0), [np.cos(0.25), 0, np.sin(0.25), 0], atol=1e-15)
+
+
+def test_extrapolation_refused_or_as_scipy(rng, converged_scipy):
+    t = np.arange(6.0)
+    q = random_walk(6, 0.3, rng)
+    with pytest.raises(ValueError, match=r"t\[1\] = 5.5 is outside the knots.*extrapolate=True"):
+        RotationSpline(t, q)([1.0, 5.5])
+    s = RotationSpline(t, q, extrapolate=True)
+    theirs = converged_scipy(t, Rotation.from_quat(q, scalar_first=True))
+    tn = np.array([-0.3, 5.2])
+    assert rotation_angle(s(tn), theirs(tn).as_quat(scalar_first=True)).max() < 1e-13
+    np.testing.assert_allclose(s(tn, 1), theirs(tn, 1), atol=1e-12)
+
+
+def test_float32_shapes_and_errors(rng):
+    t = np.arange(5.0)
+    q = random_walk(5, 0.3, rng).astype(np.float32)
+    s = RotationSpline(t, q)
+    assert s(np.array([[0.5, 1.5], [2.5, 3.5]])).shape == (2, 2, 4)
+    assert s(1.5, 1).shape == (3,) and s(1.5, 2).dtype == np.float32
+    with pytest.raises(ValueError, match="order must be 0"):
+        s(1.0, 3)
+    with pytest.raises(ValueError, match="rate_frame"):
+        s(1.0, 1, rate_frame="NED")
+    with pytest.raises(ValueError, match="strictly increasing"):
+        RotationSpline([0.0, 1.0, 1.0], q[:3])
+    with pytest.raises(ValueError, match=r"shape \(n, 4\)"):
+        RotationSpline(t, q[None])
+    with pytest.raises(ValueError, match="n ≥ 2"):
+        RotationSpline([0.0], q[:1])

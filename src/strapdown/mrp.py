@@ -101,7 +101,7 @@ def shadow_mrp(mrp, *, check: bool = True) -> np.ndarray:
     Examples
     --------
     >>> from strapdown.mrp import shadow_mrp
-    >>> shadow_mrp([0.0, 0.0, 0.5])
+    >>> shadow_mrp([0.0, 0.0, 0.5]) + 0.0       # + 0.0 turns -0.0 into 0.0
     array([ 0.,  0., -2.])
     """
     p = _v.vectors(mrp, "mrp", check=check)

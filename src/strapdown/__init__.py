@@ -20,6 +20,7 @@ function needs them.
 """
 
 from . import average, decompose, interpolate, quaternion, wahba
+from .attitude import Attitude
 from .cayley_klein import as_cayley_klein, from_cayley_klein
 from .compressed import as_compressed, from_compressed
 from .davenport import as_davenport, from_davenport
@@ -36,6 +37,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "METHODS",
+    "Attitude",
     "AttitudeIntegrator",
     "SingularityError",
     "__version__",

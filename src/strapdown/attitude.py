@@ -272,6 +272,18 @@ class Attitude:
         return cls._wrap(g, _name(reference, "reference"), _name(body, "body"))
 
     @classmethod
+    def align_vectors(cls, a, b, weights=None, *, reference=None, body=None):
+        """The attitude turning body vectors ``b`` onto reference vectors ``a`` and its rssd (scipy's names).
+
+        See :func:`strapdown.wahba.align_vectors` (one pair: the minimal rotation; an infinite weight: that pair
+        exactly, the others about it; otherwise Wahba's problem on the raw vectors).
+        """
+        from ._align import align_vectors
+
+        q, rssd = align_vectors(a, b, weights)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body")), rssd
+
+    @classmethod
     def concatenate(cls, attitudes) -> Attitude:
         """One stack from several Attitudes (single ones count as one row) with the same frames."""
         items = [attitudes] if isinstance(attitudes, Attitude) else list(attitudes)

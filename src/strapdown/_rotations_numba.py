@@ -1,7 +1,10 @@
 """Numba kernels for :mod:`strapdown.mrp` and :mod:`strapdown.davenport` (private).
 
-The kernels take validated, C-contiguous rows and compute in float64 whatever the storage type; the callers
-allocate ``out`` in the input's dtype.
+The kernels take rows (any strides) and compute in float64 whatever the storage type; the callers allocate
+``out`` in the input's dtype.  They check their input as they go, in the same pass (a separate validation pass
+would cost as much as the conversion): each returns -1, or the index of the first row that is not finite (or, for
+quaternions, whose squared norm is not in [tiny, huge)), and the caller then lets :mod:`strapdown._validate`
+raise its usual error for that input.
 """
 
 from __future__ import annotations
@@ -13,18 +16,21 @@ import numba as nb
 from ._quaternion_numba import qmul
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def from_mrp_rows(p, out):
     """Quaternions q = [1 - |p|², 2 p] / (1 + |p|²) (Shuster 1993, §8), scaled by 1/|p|² beyond the unit sphere.
 
     Dividing through by |p|² for |p| > 1 keeps the shadow parameters of a rotation near 360° (|p| → ∞) from
     overflowing |p|² and gives the same rotation.
     """
+    bad = -1
     for n in range(out.shape[0]):
         x = float(p[n, 0])
         y = float(p[n, 1])
         z = float(p[n, 2])
         big = max(abs(x), abs(y), abs(z))
+        if bad < 0 and not big < math.inf:  # NaN fails the comparison too
+            bad = n
         if big > 1.0:
             # q ∝ [1/|p|² - 1, 2 p/|p|²]; p/big first so that the squares cannot overflow
             xs = x / big
@@ -45,21 +51,32 @@ def from_mrp_rows(p, out):
             out[n, 1] = 2.0 * x / den
             out[n, 2] = 2.0 * y / den
             out[n, 3] = 2.0 * z / den
+    return bad
 
 
-@nb.njit(cache=True)
-def as_mrp_rows(q, out):
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _bad_norm(n2, tiny, huge):
+    """Whether a squared norm cannot stand for a rotation (zero, subnormal, overflowing or NaN)."""
+    return not (n2 >= tiny and n2 < huge)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def as_mrp_rows(q, out, tiny, huge):
     """MRPs p = v / (|q| + |w|) with the sign of w: the short set, |p| = tan(χ/4) ≤ 1 for χ in [0, π].
 
     At w = 0 (χ = 180°) both sets have |p| = 1; the sign rule of ``quaternion.canonical`` (first non-zero
     component positive) picks one, so q and -q agree.
     """
+    bad = -1
     for n in range(out.shape[0]):
         w = float(q[n, 0])
         x = float(q[n, 1])
         y = float(q[n, 2])
         z = float(q[n, 3])
-        norm = math.sqrt(w * w + x * x + y * y + z * z)
+        n2 = w * w + x * x + y * y + z * z
+        if bad < 0 and _bad_norm(n2, tiny, huge):
+            bad = n
+        norm = math.sqrt(n2)
         if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
             s = -1.0
         else:
@@ -68,19 +85,23 @@ def as_mrp_rows(q, out):
         out[n, 0] = x * f
         out[n, 1] = y * f
         out[n, 2] = z * f
+    return bad
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def from_axes_rows(angles, axes, extrinsic, out):
     """out[n] = e(n_1, a_1) ⊗ e(n_2, a_2) ⊗ ... (intrinsic) or ... ⊗ e(n_2, a_2) ⊗ e(n_1, a_1) (extrinsic).
 
     e(n, a) = [cos(a/2), sin(a/2) n] for the unit axes ``axes`` (k, 3); ``angles`` is (N, k).
     """
     k = axes.shape[0]
+    bad = -1
     for n in range(out.shape[0]):
         w, x, y, z = 1.0, 0.0, 0.0, 0.0
         for m in range(k):
             h = 0.5 * float(angles[n, m])
+            if bad < 0 and not abs(h) < math.inf:
+                bad = n
             c = math.cos(h)
             s = math.sin(h)
             ex, ey, ez = s * axes[m, 0], s * axes[m, 1], s * axes[m, 2]
@@ -92,9 +113,10 @@ def from_axes_rows(angles, axes, extrinsic, out):
         out[n, 1] = x
         out[n, 2] = y
         out[n, 3] = z
+    return bad
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _wrap(a):
     """An angle in (-3π, 3π) wrapped into (-π, π]."""
     while a > math.pi:
@@ -104,8 +126,8 @@ def _wrap(a):
     return a
 
 
-@nb.njit(cache=True)
-def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
+@nb.njit(cache=True, error_model="numpy")
+def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out, tiny, huge):
     """Davenport angles of the extrinsic sequence (n1, n2, n3) (the caller reverses an intrinsic one).
 
     Shuster and Markley (2003), in the direct half-angle form of Bernardes and Viollet (2022) as scipy uses it:
@@ -120,10 +142,15 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
     cz = n1[0] * n2[1] - n1[1] * n2[0]
     ch = math.cos(0.5 * lam)
     sh = math.sin(0.5 * lam)
+    bad = -1
     for n in range(out.shape[0]):
-        w, x, y, z = qmul(
-            ch, sh * n2[0], sh * n2[1], sh * n2[2], float(q[n, 0]), float(q[n, 1]), float(q[n, 2]), float(q[n, 3])
-        )
+        qw = float(q[n, 0])
+        qx = float(q[n, 1])
+        qy = float(q[n, 2])
+        qz = float(q[n, 3])
+        if bad < 0 and _bad_norm(qw * qw + qx * qx + qy * qy + qz * qz, tiny, huge):
+            bad = n
+        w, x, y, z = qmul(ch, sh * n2[0], sh * n2[1], sh * n2[2], qw, qx, qy, qz)
         a = w
         b = x * n1[0] + y * n1[1] + z * n1[2]
         c = x * n2[0] + y * n2[1] + z * n2[2]
@@ -149,3 +176,4 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
         out[n, 0] = _wrap(first) * scale
         out[n, 1] = middle * scale
         out[n, 2] = _wrap(third) * scale
+    return bad

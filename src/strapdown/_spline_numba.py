@@ -26,7 +26,7 @@ from ._quaternion_numba import qmul
 _SERIES = 0.25  # θ below which k1, k3, m1 and m2 come from six series terms (error < 1e-19)
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _k1(t, t2):
     if t < _SERIES:
         return 0.5 - t2 * (1 / 24 - t2 * (1 / 720 - t2 * (1 / 40320 - t2 * (1 / 3628800 - t2 / 479001600))))
@@ -34,28 +34,28 @@ def _k1(t, t2):
     return 0.5 * h * h
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _k3(t, t2):
     if t < _SERIES:
         return 1 / 6 - t2 * (1 / 120 - t2 * (1 / 5040 - t2 * (1 / 362880 - t2 * (1 / 39916800 - t2 / 6227020800))))
     return (t - math.sin(t)) / (t * t2)
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _k(t, t2):
     if t < 0.1:  # θ/2 cot(θ/2) = 1 - θ²/12 - θ⁴/720 - θ⁶/30240 - θ⁸/1209600 - θ¹⁰/47900160 - ...
         return 1 / 12 + t2 * (1 / 720 + t2 * (1 / 30240 + t2 * (1 / 1209600 + t2 / 47900160)))
     return (1.0 - 0.5 * t / math.tan(0.5 * t)) / t2
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _m1(t, t2):
     if t < _SERIES:
         return 1 / 12 - t2 * (1 / 180 - t2 * (1 / 6720 - t2 * (1 / 453600 - t2 * (1 / 47900160 - t2 / 7264857600))))
     return (2.0 * (1.0 - math.cos(t)) - t * math.sin(t)) / (t2 * t2)
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _m2(t, t2):
     if t < _SERIES:
         tail = 1 / 4989600 - t2 * (1 / 622702080 - t2 / 108972864000)
@@ -63,12 +63,12 @@ def _m2(t, t2):
     return (3.0 * math.sin(t) - t * math.cos(t) - 2.0 * t) / (t2 * t2 * t)
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def rate_from_rotvec_dot(rx, ry, rz, vx, vy, vz):
     """ω = J(r) ṙ."""
     t2 = rx * rx + ry * ry + rz * rz
@@ -80,7 +80,7 @@ def rate_from_rotvec_dot(rx, ry, rz, vx, vy, vz):
     return vx - k1 * cx + k3 * ccx, vy - k1 * cy + k3 * ccy, vz - k1 * cz + k3 * ccz
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def rotvec_dot_from_rate(rx, ry, rz, wx, wy, wz):
     """ṙ = J⁻¹(r) ω."""
     t2 = rx * rx + ry * ry + rz * rz
@@ -91,7 +91,7 @@ def rotvec_dot_from_rate(rx, ry, rz, wx, wy, wz):
     return wx + 0.5 * cx + k * ccx, wy + 0.5 * cy + k * ccy, wz + 0.5 * cz + k * ccz
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def nonlinear(rx, ry, rz, vx, vy, vz):
     """n(r, ṙ), the part of ω̇ quadratic in ṙ."""
     t2 = rx * rx + ry * ry + rz * rz
@@ -110,7 +110,7 @@ def nonlinear(rx, ry, rz, vx, vy, vz):
     )
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _matrix(rx, ry, rz, a, b, inverse):
     """The 3×3 matrix a·J(r) (inverse=False) or a·J⁻¹(r) (inverse=True), ``b`` its output."""
     t2 = rx * rx + ry * ry + rz * rz
@@ -129,7 +129,7 @@ def _matrix(rx, ry, rz, a, b, inverse):
             b[i, j] = a * ((1.0 if i == j else 0.0) + c1 * s[i][j] + c2 * (r[i] * r[j] - (t2 if i == j else 0.0)))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _inv3(m, out):
     """Write m⁻¹ into out for a 3×3 matrix m, by the adjugate."""
     c00 = m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]
@@ -147,7 +147,7 @@ def _inv3(m, out):
     out[2, 2] = (m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]) / det
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _mv(m, j, v, k):
     """m[j] @ v[k] for stacks of 3×3 matrices and 3-vectors."""
     return (
@@ -157,7 +157,7 @@ def _mv(m, j, v, k):
     )
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def knot_rates(r, dt, w, max_iter, tol):
     """Solve for the body rates w[1:-1] at the inner knots (w[0] and w[-1] are given); return the iterations.
 
@@ -248,7 +248,7 @@ def knot_rates(r, dt, w, max_iter, tol):
     return iterations
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _poly(coef, k, c, x):
     """r, ṙ and r̈ of component c of segment k at offset x: r = ((c0 x + c1) x + c2) x."""
     c0 = coef[k, 0, c]
@@ -257,7 +257,7 @@ def _poly(coef, k, c, x):
     return ((c0 * x + c1) * x + c2) * x, (3.0 * c0 * x + 2.0 * c1) * x + c2, 6.0 * c0 * x + 2.0 * c1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def evaluate(coef, q, index, s, order, out):
     """Attitude (order 0, out (N, 4)), body rate (1) or body acceleration (2, out (N, 3)) at offsets s.
 
@@ -292,7 +292,7 @@ def evaluate(coef, q, index, s, order, out):
             out[n, 2] = bz + nz
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def rotvec_dot_rows(r, w, out):
     """out[n] = J⁻¹(r[n]) w[n]."""
     for n in range(out.shape[0]):

@@ -367,7 +367,8 @@ class Attitude:
         from .quaternion import conjugate, rotate
 
         q = conjugate(self._q, check=False) if inverse else self._q
-        return rotate(q, vectors)
+        # the attitudes were checked when the object was made: only the vectors need it
+        return rotate(q, _v.vectors(vectors, "vectors"), check=False)
 
     def __mul__(self, other):
         if not isinstance(other, Attitude):

@@ -60,7 +60,7 @@ def _axes(axes, most: int = 3) -> np.ndarray:
 
 def _from_unit_axes(unit: np.ndarray, extrinsic: bool, angles, degrees: bool, check: bool) -> np.ndarray:
     k = unit.shape[0]
-    a = _v.finite(angles, "angles", check=check)
+    a = _v.finite(angles, "angles", check=False)
     if a.ndim == 0 and k == 1:
         a = a[None]
     if a.ndim == 0 or a.shape[-1] != k:
@@ -70,11 +70,12 @@ def _from_unit_axes(unit: np.ndarray, extrinsic: bool, angles, degrees: bool, ch
         )
     if degrees:
         a = np.deg2rad(a)
-    rows = np.ascontiguousarray(a.reshape(-1, k))
+    rows = a.reshape(-1, k)
     out = np.empty((rows.shape[0], 4), dtype=a.dtype)
     from ._rotations_numba import from_axes_rows
 
-    from_axes_rows(rows, unit, extrinsic, out)
+    if from_axes_rows(rows, unit, extrinsic, out) >= 0 and check:  # checked as it goes (see the kernel)
+        _v.finite(a, "angles")
     return out.reshape((*a.shape[:-1], 4))
 
 
@@ -148,28 +149,21 @@ def as_davenport(q, axes, order: str, degrees: bool = False, *, check: bool = Tr
     unit = _axes(axes)
     if unit.shape[0] != 3:
         raise ValueError(f"as_davenport needs three axes, shape (3, 3); got {unit.shape[0]}")
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.quaternions(q, "q", check=False)
     n1, n2, n3 = unit if extrinsic else unit[::-1]  # the algorithm is for extrinsic sequences
     lam = float(np.arctan2(n3 @ np.cross(n1, n2), n3 @ n1))
     flip = lam < 0
     if flip:  # the other set of angles, that of as_euler: turn n2 round so that λ ≥ 0
         n2 = -n2
         lam = -lam
-    rows = np.ascontiguousarray(q.reshape(-1, 4))
+    rows = q.reshape(-1, 4)
     out = np.empty((rows.shape[0], 3), dtype=q.dtype)
     from ._rotations_numba import as_davenport_rows
 
-    as_davenport_rows(
-        rows,
-        np.ascontiguousarray(n1),
-        np.ascontiguousarray(n2),
-        n3,
-        lam,
-        flip,
-        extrinsic,
-        180.0 / np.pi if degrees else 1.0,
-        out,
-    )
+    n1, n2, n3 = (np.ascontiguousarray(n) for n in (n1, n2, n3))
+    scale = 180.0 / np.pi if degrees else 1.0
+    if as_davenport_rows(rows, n1, n2, n3, lam, flip, extrinsic, scale, out, *_v.norm_limits(q.dtype)) >= 0 and check:
+        _v.quaternions(q, "q")  # checked as it goes (see the kernel); the usual message from here
     return out.reshape((*q.shape[:-1], 3))
 
 

@@ -40,12 +40,13 @@ def from_mrp(mrp, *, check: bool = True) -> np.ndarray:
     >>> from_mrp([0.0, 0.0, 0.41421356237309503]).round(12)   # tan(22.5°): 90° about z
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
-    p = _v.vectors(mrp, "mrp", check=check)
-    rows = np.ascontiguousarray(p.reshape(-1, 3))
+    p = _v.vectors(mrp, "mrp", check=False)
+    rows = p.reshape(-1, 3)
     out = np.empty((rows.shape[0], 4), dtype=p.dtype)
     from ._rotations_numba import from_mrp_rows
 
-    from_mrp_rows(rows, out)
+    if from_mrp_rows(rows, out) >= 0 and check:  # the kernel checks as it goes; the usual message from here
+        _v.vectors(p, "mrp")
     return out.reshape((*p.shape[:-1], 4))
 
 
@@ -74,12 +75,13 @@ def as_mrp(q, *, check: bool = True) -> np.ndarray:
     >>> as_mrp([-np.cos(np.pi / 4), 0.0, 0.0, -np.sin(np.pi / 4)]).round(12)   # 90° about z, sign flipped
     array([0.        , 0.        , 0.41421356])
     """
-    q = _v.quaternions(q, "q", check=check)
-    rows = np.ascontiguousarray(q.reshape(-1, 4))
+    q = _v.quaternions(q, "q", check=False)
+    rows = q.reshape(-1, 4)
     out = np.empty((rows.shape[0], 3), dtype=q.dtype)
     from ._rotations_numba import as_mrp_rows
 
-    as_mrp_rows(rows, out)
+    if as_mrp_rows(rows, out, *_v.norm_limits(q.dtype)) >= 0 and check:  # checked as it goes (see the kernel)
+        _v.quaternions(q, "q")
     return out.reshape((*q.shape[:-1], 3))
 
 

@@ -60,6 +60,16 @@ def _bad_norm(n2, tiny, huge):
     return not (n2 >= tiny and n2 < huge)
 
 
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _quaternion_row(q, n):
+    """Row n of q in float64, and its squared norm."""
+    w = float(q[n, 0])
+    x = float(q[n, 1])
+    y = float(q[n, 2])
+    z = float(q[n, 3])
+    return w, x, y, z, w * w + x * x + y * y + z * z
+
+
 @nb.njit(cache=True, error_model="numpy")
 def as_mrp_rows(q, out, tiny, huge):
     """MRPs p = v / (|q| + |w|) with the sign of w: the short set, |p| = tan(χ/4) ≤ 1 for χ in [0, π].
@@ -69,11 +79,7 @@ def as_mrp_rows(q, out, tiny, huge):
     """
     bad = -1
     for n in range(out.shape[0]):
-        w = float(q[n, 0])
-        x = float(q[n, 1])
-        y = float(q[n, 2])
-        z = float(q[n, 3])
-        n2 = w * w + x * x + y * y + z * z
+        w, x, y, z, n2 = _quaternion_row(q, n)
         if bad < 0 and _bad_norm(n2, tiny, huge):
             bad = n
         norm = math.sqrt(n2)
@@ -144,11 +150,8 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out, tiny, hug
     sh = math.sin(0.5 * lam)
     bad = -1
     for n in range(out.shape[0]):
-        qw = float(q[n, 0])
-        qx = float(q[n, 1])
-        qy = float(q[n, 2])
-        qz = float(q[n, 3])
-        if bad < 0 and _bad_norm(qw * qw + qx * qx + qy * qy + qz * qz, tiny, huge):
+        qw, qx, qy, qz, norm2 = _quaternion_row(q, n)
+        if bad < 0 and _bad_norm(norm2, tiny, huge):
             bad = n
         w, x, y, z = qmul(ch, sh * n2[0], sh * n2[1], sh * n2[2], qw, qx, qy, qz)
         a = w

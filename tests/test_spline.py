@@ -14,7 +14,7 @@ from strapdown.interpolate import RotationSpline
 def converged_scipy(monkeypatch):
     """scipy's spline iterated to convergence (its default stops at a change of 1e-9, or after 10 steps)."""
     monkeypatch.setattr(ScipySpline, "TOL", 1e-15)
-    monkeypatch.setattr(ScipySpline, "MAX_ITER", 200)
+    monkeypatch.setattr(ScipySpline, "MAX_ITER", 5000)
     return ScipySpline
 
 
@@ -124,6 +124,15 @@ def test_extrapolation_refused_or_as_scipy(rng, converged_scipy):
     tn = np.array([-0.3, 5.2])
     assert rotation_angle(s(tn), theirs(tn).as_quat(scalar_first=True)).max() < 1e-13
     np.testing.assert_allclose(s(tn, 1), theirs(tn, 1), atol=1e-12)
+
+
+def test_unsettled_knot_rates_are_reported(rng):
+    t = np.cumsum(rng.uniform(0.05, 1.0, 60))
+    q = random_quaternions(60, rng)  # increments of up to π: the iteration needs tens of steps
+    with pytest.warns(RuntimeWarning, match="did not settle"):
+        s = RotationSpline(t, q, max_iter=3)
+    assert s.iterations == 3
+    assert RotationSpline(t, q).iterations > 3
 
 
 def test_float32_shapes_and_errors(rng):

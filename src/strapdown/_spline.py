@@ -43,7 +43,9 @@ class RotationSpline:
     max_iter, tol : int, float
         The knot rates solve a block-tridiagonal system that is nonlinear in the rates; it is iterated until no
         rate moves by more than ``tol (1 + |ω|)`` (default 1e-14, near rounding; scipy's default is 1e-9 with at
-        most 10 steps), at most ``max_iter`` times.  :attr:`iterations` reports what it took.
+        most 10 steps), at most ``max_iter`` times.  :attr:`iterations` reports what it took: a few for smooth
+        motion sampled densely, up to about a hundred for increments of a radian or more between samples.  A
+        RuntimeWarning says when ``max_iter`` was not enough.
     check : bool
         Reject NaN, infinities, zero quaternions and non-increasing times (default).
 
@@ -78,7 +80,9 @@ class RotationSpline:
     array([0.93050762, 0.        , 0.        , 0.36627253])
     """
 
-    def __init__(self, t, q, *, extrapolate: bool = False, max_iter: int = 100, tol: float = 1e-14, check: bool = True):
+    def __init__(
+        self, t, q, *, extrapolate: bool = False, max_iter: int = 1000, tol: float = 1e-14, check: bool = True
+    ):
         from .interpolate import _series
 
         tv = _v.finite(t, "t", check=check, dtype=np.float64)
@@ -99,6 +103,15 @@ class RotationSpline:
             from ._spline_numba import knot_rates
 
             self.iterations = int(knot_rates(r, h, w, int(max_iter), float(tol)))
+            if self.iterations >= max_iter:
+                import warnings
+
+                warnings.warn(
+                    f"RotationSpline: the knot rates did not settle to tol={tol:g} in max_iter={max_iter} "
+                    "iterations; the spline is still C¹ but its acceleration may jump at the knots",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
         # Hermite cubic of each segment from r_k, the start rate ω_k (= ṙ(0), as J(0) = I) and ṙ(h) = J⁻¹(r_k) ω_{k+1}
         from ._spline_numba import rotvec_dot_rows
 

@@ -101,6 +101,22 @@ def object_cases(n: int, rng):
     ]
 
 
+def fixed_cost(rng, results: list) -> None:
+    """What the object adds per call, in µs, measured on single attitudes (where nothing else costs much).
+
+    At 10⁶ attitudes this fixed cost is all the object adds; divided by the operation's time it is the relative
+    overhead, a steadier figure on a busy machine than the ratio of two 10 ms timings.
+    """
+    print("\nfixed cost of the object per call (single attitude, best of 2000)")
+    for name, ours, theirs in object_cases(1, rng):
+        ours()
+        theirs()
+        t_ours = min(best_time(ours, 1) for _ in range(2000))
+        t_ref = min(best_time(theirs, 1) for _ in range(2000))
+        results.append({"part": "fixed cost", "operation": name, "ours_s": t_ours, "reference_s": t_ref})
+        print(f"{name:<20} {t_ours * 1e6:8.1f}µs {t_ref * 1e6:8.1f}µs   object adds {(t_ours - t_ref) * 1e6:6.1f}µs")
+
+
 def run(cases, repeat: int, label: str, goal: float, results: list) -> float:
     print(f"\n{label}")
     print(f"{'operation':<20} {'ours':>10} {'reference':>10} {'ratio':>7}")
@@ -135,6 +151,7 @@ def main(argv=None):
     results: list = []
     worst_conv = run(conversion_cases(args.n, rng), args.repeat, "conversions: strapdown / scipy", 1.0, results)
     worst_obj = run(object_cases(args.n, rng), args.repeat, "Attitude object / plain function", 1.05, results)
+    fixed_cost(rng, results)
     if args.json:
         with open(args.json, "w") as fh:
             json.dump({"n": args.n, "scipy": scipy.__version__, "results": results}, fh, indent=2)

@@ -124,8 +124,15 @@ def run(cases, repeat: int, label: str, goal: float, results: list) -> float:
     for name, ours, theirs in cases:
         ours()
         theirs()
-        # interleaved, so that a change of load on a shared machine hits both sides alike
-        times = [(best_time(ours, 1), best_time(theirs, 1)) for _ in range(repeat)]
+        # interleaved, and in alternating order, so that a change of load on a shared machine (or the allocator's
+        # reuse of the memory the other side has just freed) favours neither side
+        times = []
+        for i in range(repeat):
+            if i % 2:
+                t_ref = best_time(theirs, 1)
+                times.append((best_time(ours, 1), t_ref))
+            else:
+                times.append((best_time(ours, 1), best_time(theirs, 1)))
         t_ours = min(t for t, _ in times)
         t_ref = min(t for _, t in times)
         ratio = t_ours / t_ref

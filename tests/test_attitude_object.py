@@ -207,3 +207,27 @@ def test_estimate_hands_out_an_attitude():
     assert isinstance(att, Attitude) and att.reference == "NED" and att.body is None
     assert np.shares_memory(att.q, est.q) and att.shape == (n,)
     np.testing.assert_allclose(att.as_euler("ZYX")[:, 1:], np.stack([est.pitch, est.roll], -1), atol=1e-12)
+
+
+def test_power_matches_scipy_and_needs_matching_frames(rng):
+    q = random_quaternions(50, rng)
+    rel = Attitude(q, "FRD", "FRD")  # a rotation between two sets of body axes
+    for t in (0.5, 2.0, -0.3, 0.0):
+        assert rotation_angle((rel**t).q, (scipy_of(rel) ** t).as_quat(scalar_first=True)).max() < 1e-13
+    np.testing.assert_array_equal((Attitude(q, "NED", "FRD") ** -1).q, Attitude(q, "NED", "FRD").inv().q)
+    with pytest.raises(ValueError, match=r"same name.*maps 'FRD' to 'NED'"):
+        Attitude(q, "NED", "FRD") ** 0.5
+
+
+def test_array_conversion_is_zero_copy_and_arithmetic_is_refused(rng):
+    from strapdown import as_euler
+    from strapdown.interpolate import RotationSpline
+
+    a = Attitude(random_quaternions(8, rng), "NED", "FRD")
+    assert np.shares_memory(np.asarray(a), a.q)
+    np.testing.assert_array_equal(as_euler(a), a.as_euler())  # any array function takes an Attitude
+    RotationSpline(np.arange(8.0), a)
+    with pytest.raises(TypeError):
+        np.float64(2.0) * a
+    with pytest.raises(TypeError):
+        np.add(a, a)

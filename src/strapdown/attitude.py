@@ -166,6 +166,15 @@ class Attitude:
             return f"Attitude([{parts}], {frames})"
         return f"Attitude(shape={self.shape}, {frames}, dtype={self.dtype})"
 
+    # Conversion to an array gives the quaternions (no copy), so every strapdown function takes an Attitude where
+    # it takes q; arithmetic through numpy is refused, so ``2.0 * a`` cannot quietly scale quaternion components.
+    __array_ufunc__ = None
+
+    def __array__(self, dtype=None, copy=None):
+        if copy:
+            return np.array(self._q, dtype=dtype)
+        return self._q if dtype is None else self._q.astype(dtype, copy=False)
+
     def __eq__(self, other):
         raise TypeError("use a.approx_equal(b, atol) to compare attitudes: q and -q are the same rotation")
 
@@ -402,6 +411,27 @@ class Attitude:
                 f"b.to_frame({self._reference!r}, {self._body!r}); the rotation from b's body to a's is a.inv() * b."
             )
         return text + " Check which frames each attitude maps (a.reference, a.body), or compose with a.inv()."
+
+    def __pow__(self, t) -> Attitude:
+        """Rotations by ``t`` times the angle (in [0, π], the shorter way) about the same axes, as scipy's.
+
+        ``from_rotvec(t · as_rotvec(q))``, so q and -q give the same result; ``a ** -1`` is ``a.inv()``.
+
+        Only a rotation between axes of the same name (``reference == body``, e.g. the relative rotation
+        ``a.inv() * b``) or with unnamed frames has powers: half of a body-to-NED attitude maps between no named
+        frames (for attitudes in between, use ``quaternion.slerp`` or :class:`strapdown.interpolate.RotationSpline`).
+        """
+        from .rotvec import as_rotvec, from_rotvec
+
+        if isinstance(t, (int, np.integer)) and t == -1:
+            return self.inv()
+        if self._reference is not None and self._body is not None and self._reference != self._body:
+            raise ValueError(
+                f"a ** t needs a rotation between axes of the same name; this one maps {self._body!r} to "
+                f"{self._reference!r} (use a.inv() for the inverse, slerp or RotationSpline for attitudes in between)"
+            )
+        t = _v.finite(t, "t")
+        return self._like(from_rotvec(as_rotvec(self._q, check=False) * t[..., None].astype(self.dtype), check=False))
 
     def magnitude(self) -> np.ndarray:
         """Rotation angles in [0, π], shape ``self.shape``."""

@@ -126,6 +126,21 @@ def test_extrapolation_refused_or_as_scipy(rng, converged_scipy):
     np.testing.assert_allclose(s(tn, 1), theirs(tn, 1), atol=1e-12)
 
 
+def test_several_series_at_once_are_the_single_splines(rng):
+    t = np.cumsum(rng.uniform(0.1, 1.0, 12))
+    q = np.stack([random_walk(12, 0.4, rng) for _ in range(6)], axis=1).reshape(12, 2, 3, 4)
+    batch = RotationSpline(t, q)
+    tn = rng.uniform(t[0], t[-1], (7, 5))
+    for order, size in ((0, 4), (1, 3), (2, 3)):
+        got = batch(tn, order, rate_frame="reference")
+        assert got.shape == (7, 5, 2, 3, size)
+        for i in range(2):
+            for j in range(3):
+                one = RotationSpline(t, q[:, i, j])(tn, order, rate_frame="reference")
+                np.testing.assert_allclose(got[..., i, j, :], one, rtol=0, atol=1e-15 * max(1, np.abs(one).max()))
+    assert batch.rates.shape == (12, 2, 3, 3)
+
+
 def test_unsettled_knot_rates_are_reported(rng):
     t = np.cumsum(rng.uniform(0.05, 1.0, 60))
     q = random_quaternions(60, rng)  # increments of up to π: the iteration needs tens of steps
@@ -147,7 +162,7 @@ def test_float32_shapes_and_errors(rng):
         s(1.0, 1, rate_frame="NED")
     with pytest.raises(ValueError, match="strictly increasing"):
         RotationSpline([0.0, 1.0, 1.0], q[:3])
-    with pytest.raises(ValueError, match=r"shape \(n, 4\)"):
+    with pytest.raises(ValueError, match=r"shape \(n, \.\.\., 4\) with n = len\(t\) = 5"):
         RotationSpline(t, q[None])
     with pytest.raises(ValueError, match="n ≥ 2"):
         RotationSpline([0.0], q[:1])

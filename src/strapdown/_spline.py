@@ -33,9 +33,10 @@ class RotationSpline:
     ----------
     t : array_like, shape (n,)
         Strictly increasing sample times, n ≥ 2 (any unit; rates come out per that unit).
-    q : array_like, shape (n, 4)
+    q : array_like, shape (n, ..., 4)
         Non-zero attitude quaternions at those times, scalar first, body to reference (normalised, and made
-        continuous in sign, first).
+        continuous in sign, first); several series sampled at the same times interpolate at once, as in
+        :mod:`strapdown.interpolate`.
     extrapolate : bool
         False (default): calling the spline outside ``[t[0], t[-1]]`` raises a ValueError.  True: continue
         the first and last cubic beyond the ends, as scipy's ``RotationSpline`` does (a cubic runs away fast:
@@ -53,9 +54,9 @@ class RotationSpline:
     ----------
     t : numpy.ndarray, shape (n,)
         The knots (float64).
-    q : numpy.ndarray, shape (n, 4)
+    q : numpy.ndarray, shape (n, ..., 4)
         The unit, sign-continuous attitudes at the knots (float64).
-    rates : numpy.ndarray, shape (n, 3)
+    rates : numpy.ndarray, shape (n, ..., 3)
         Body rates at the knots.
     iterations : int
         Fixed-point iterations the knot rates took.
@@ -87,22 +88,27 @@ class RotationSpline:
 
         tv = _v.finite(t, "t", check=check, dtype=np.float64)
         qv = _v.quaternions(q, "q", check=check)
-        if qv.ndim != 2:
-            raise ValueError(f"q must have shape (n, 4), one attitude per time; got shape {qv.shape}")
         tv, q1, _, dtype = _series(tv, qv, tv[:1], check)
         from .quaternion import conjugate, multiply
         from .rotvec import as_rotvec
 
+        n = tv.shape[0]
+        self._series_shape = q1.shape[1:-1]
+        # one row of knots per series: (S, n, 4)
+        rows = np.ascontiguousarray(np.moveaxis(q1.reshape(n, -1, 4), 1, 0))
         h = np.diff(tv)
-        r = np.ascontiguousarray(as_rotvec(multiply(conjugate(q1[:-1], check=False), q1[1:], check=False), check=False))
-        w = np.empty((tv.shape[0], 3))
-        w[:-1] = r / h[:, None]  # the first guess, and the end conditions: the end segments' mean rates
-        w[-1] = w[-2]
+        r = np.ascontiguousarray(
+            as_rotvec(multiply(conjugate(rows[:, :-1], check=False), rows[:, 1:], check=False), check=False)
+        )
+        w = np.empty((rows.shape[0], n, 3))
+        w[:, :-1] = r / h[:, None]  # the first guess, and the end conditions: the end segments' mean rates
+        w[:, -1] = w[:, -2]
         self.iterations = 0
-        if tv.shape[0] > 2:
+        if n > 2:
             from ._spline_numba import knot_rates
 
-            self.iterations = int(knot_rates(r, h, w, int(max_iter), float(tol)))
+            for k in range(rows.shape[0]):
+                self.iterations = max(self.iterations, int(knot_rates(r[k], h, w[k], int(max_iter), float(tol))))
             if self.iterations >= max_iter:
                 import warnings
 
@@ -116,16 +122,17 @@ class RotationSpline:
         from ._spline_numba import rotvec_dot_rows
 
         rdot_end = np.empty_like(r)
-        rotvec_dot_rows(r, np.ascontiguousarray(w[1:]), rdot_end)
+        rotvec_dot_rows(r.reshape(-1, 3), np.ascontiguousarray(w[:, 1:]).reshape(-1, 3), rdot_end.reshape(-1, 3))
         hh = h[:, None]
-        coef = np.empty((r.shape[0], 3, 3))
-        coef[:, 0] = (-2 * r + hh * w[:-1] + hh * rdot_end) / hh**3
-        coef[:, 1] = (3 * r - 2 * hh * w[:-1] - hh * rdot_end) / hh**2
-        coef[:, 2] = w[:-1]
+        coef = np.empty((*r.shape[:2], 3, 3))
+        coef[..., 0, :] = (-2 * r + hh * w[:, :-1] + hh * rdot_end) / hh**3
+        coef[..., 1, :] = (3 * r - 2 * hh * w[:, :-1] - hh * rdot_end) / hh**2
+        coef[..., 2, :] = w[:, :-1]
         self.t = tv
         self.q = q1
-        self.rates = w
+        self.rates = np.moveaxis(w, 0, 1).reshape((n, *self._series_shape, 3))
         self.extrapolate = bool(extrapolate)
+        self._rows = rows
         self._coef = coef
         self._dtype = dtype
 
@@ -152,7 +159,7 @@ class RotationSpline:
 
         Returns
         -------
-        numpy.ndarray, shape ``t.shape + (4,)`` or ``t.shape + (3,)``
+        numpy.ndarray, shape ``t.shape + q.shape[1:-1] + (4,)`` or ``(3,)``
             In the dtype of the spline's input quaternions.
         """
         if order not in (0, 1, 2) or isinstance(order, bool):
@@ -170,14 +177,17 @@ class RotationSpline:
         flat = np.ascontiguousarray(tn.reshape(-1))
         index = np.clip(np.searchsorted(self.t, flat, side="right") - 1, 0, self.t.shape[0] - 2)
         s = flat - self.t[index]
-        out = np.empty((flat.shape[0], 4 if order == 0 else 3))
+        series = self._rows.shape[0]
+        out = np.empty((flat.shape[0], series, 4 if order == 0 else 3))
         from ._spline_numba import evaluate
 
-        evaluate(self._coef, self.q, index, s, order, out)
+        for k in range(series):
+            evaluate(self._coef[k], self._rows[k], index, s, order, out[:, k])
         if order and rate_frame == "reference":
             from .quaternion import rotate
 
-            attitude = np.empty((flat.shape[0], 4))
-            evaluate(self._coef, self.q, index, s, 0, attitude)
+            attitude = np.empty((flat.shape[0], series, 4))
+            for k in range(series):
+                evaluate(self._coef[k], self._rows[k], index, s, 0, attitude[:, k])
             out = rotate(attitude, out, check=False)
-        return out.reshape((*tn.shape, out.shape[-1])).astype(self._dtype, copy=False)
+        return out.reshape((*tn.shape, *self._series_shape, out.shape[-1])).astype(self._dtype, copy=False)

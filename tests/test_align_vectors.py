@@ -115,3 +115,18 @@ def test_attitude_align_vectors_carries_frames(rng):
     att, rssd = Attitude.align_vectors(a, b, reference="NED", body="FRD")
     q, want = align_vectors(a, b)
     assert (att.reference, att.body) == ("NED", "FRD") and rotation_angle(att.q, q) == 0 and rssd == want
+
+
+def test_scipy_align_constrain_values():
+    # scipy test_align_vectors_align_constrain: primary +X of B onto +Y of A, secondary fixes the turn about it
+    m_expected = np.array([[0.0, 0, 1], [1, 0, 0], [0, 1, 0]])
+    a = np.array([[0.0, 1, 0], [0, 1, 1]])
+    q, rssd = align_vectors(a, [[1.0, 0, 0], [1, 1, 0]], [np.inf, 1])
+    np.testing.assert_allclose(Attitude(q).as_matrix(), m_expected, atol=1e-12)
+    assert abs(rssd) < 1e-12
+    q, rssd = align_vectors(a, [[1.0, 0, 0], [1, 2, 0]], [np.inf, 1])
+    np.testing.assert_allclose(Attitude(q).as_matrix(), m_expected, atol=1e-12)
+    assert abs(rssd - 1.0) < 1e-12
+    q, rssd = align_vectors([[-1.0, 3, 2], [1, -1, 2]], [[1.0, 2, 3], [-2, 3, -1]], [np.inf, 1])
+    np.testing.assert_allclose(Attitude(q).apply([1.0, 2, 3]), [-1, 3, 2], atol=1e-12)
+    assert abs(rssd - 1.3101595297515016) < 1e-12

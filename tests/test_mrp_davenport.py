@@ -172,3 +172,33 @@ def test_euler_scalar_angle_for_one_axis():
         from_euler([0.1, 0.2], "xx")
     with pytest.raises(ValueError, match="mixes upper and lower"):
         from_euler([0.1, 0.2], "xY")
+
+
+# ---------------------------------------------------------------------------------------------- scipy's own values
+def test_scipy_generic_mrp_values():
+    # scipy test_from_generic_mrp / test_as_generic_mrp / test_past_180_degree_rotation (scalar-last there)
+    got = from_mrp([[1, 2, 2], [1, -1, 0.5], [0, 0, 0]])
+    expected_last = np.array([[0.2, 0.4, 0.4, -0.8], [0.61538462, -0.61538462, 0.30769231, -0.38461538], [0, 0, 0, 1]])
+    assert rotation_angle(got, np.roll(expected_last, 1, axis=-1)).max() < 1e-7
+    q_last = np.array([[1, 2, -1, 0.5], [1, -1, 1, 0.0003], [0, 0, 0, 1]])
+    expected = [[0.33333333, 0.66666667, -0.33333333], [0.57725028, -0.57725028, 0.57725028], [0, 0, 0]]
+    np.testing.assert_allclose(as_mrp(np.roll(q_last, 1, axis=-1)), expected, atol=1e-8)
+    np.testing.assert_allclose(as_mrp(from_euler([270.0, 0, 0], "xyz", degrees=True)), [-np.tan(np.pi / 8), 0, 0])
+
+
+def test_scipy_davenport_degenerate_cases():
+    # scipy test_as_davenport_degenerate: middle angle at 0 or π minus λ, any λ; the angles rebuild the rotation
+    rnd = np.random.RandomState(0)
+    angles = np.empty((5, 3))
+    angles[:, 0] = rnd.uniform(-np.pi, np.pi, 5)
+    middle = np.array([rnd.choice([0, np.pi]) for _ in range(5)])
+    angles[:, 2] = rnd.uniform(-np.pi, np.pi, 5)
+    for lam in rnd.uniform(0, np.pi, 5):
+        e3 = Rotation.from_rotvec(lam * EY).apply(EX)
+        axes = np.stack([EX, EY, e3])
+        angles[:, 1] = middle - lam
+        for order in ("extrinsic", "intrinsic"):
+            ax = axes if order == "intrinsic" else axes[::-1]
+            q = from_davenport(ax, order, angles)
+            back = from_davenport(ax, order, as_davenport(q, ax, order))
+            assert rotation_angle(back, q).max() < 1e-14

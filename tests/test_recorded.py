@@ -97,3 +97,16 @@ def test_bad_input():
         RecordedMotion([0.0, 1, 1], q)
     with pytest.raises(ValueError, match=r"positions must have shape \(n, 3\) = \(3, 3\)"):
         RecordedMotion([0.0, 1, 2], q, positions=np.zeros((2, 3)))
+
+
+def test_an_attitude_brings_its_frames(capture):
+    from strapdown import Attitude
+
+    t, q, _ = capture
+    t, q = t[:201], q[:201]
+    enu = Attitude(q, "NED", "FRD").to_frame("ENU", "FLU")
+    data = sample_recorded(t, enu, 100.0, gyro="rotvec")
+    assert (data.reference, data.body) == ("ENU", "FLU")
+    assert angle_between(data.integrate("exact"), enu.q).max() < 1e-12
+    with pytest.raises(ValueError, match="reference='NED' but the Attitude q names its reference 'ENU'"):
+        sample_recorded(t, enu, reference="NED")

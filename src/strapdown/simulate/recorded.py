@@ -70,6 +70,19 @@ def _natural_cubic_second_derivatives(t: np.ndarray, y: np.ndarray) -> np.ndarra
     return m
 
 
+def _frames(q, reference, body) -> tuple[str, str]:
+    """The recording's frames: as given, else those an Attitude carries, else NED and FRD."""
+    from ..attitude import Attitude
+
+    if isinstance(q, Attitude):
+        for given, carried, side in ((reference, q.reference, "reference"), (body, q.body, "body")):
+            if given is not None and carried is not None and given != carried:
+                raise ValueError(f"{side}={given!r} but the Attitude q names its {side} {carried!r}")
+        reference = reference or q.reference
+        body = body or q.body
+    return reference or "NED", body or "FRD"
+
+
 class RecordedMotion(Trajectory):
     """A trajectory through recorded attitudes (and optionally positions), C² in attitude.
 
@@ -77,11 +90,11 @@ class RecordedMotion(Trajectory):
     ----------
     t : array_like, shape (n,)
         Strictly increasing sample times, seconds (n ≥ 2).
-    q : array_like, shape (n, 4)
+    q : array_like or strapdown.Attitude, shape (n, 4)
         Attitudes at those times, body to ``reference``, scalar first.
-    reference, body : str
+    reference, body : str, optional
         Frames of ``q`` (and of ``positions``), by axis letters (:mod:`strapdown.frames`): the reference frame
-        must have a vertical axis for gravity.
+        must have a vertical axis for gravity.  By default those named by an Attitude ``q``, else NED and FRD.
     positions : array_like, shape (n, 3), optional
         Positions of the IMU in ``reference`` (metres); None: at rest.
 
@@ -101,8 +114,11 @@ class RecordedMotion(Trajectory):
     array([[0., 0., 1.]])
     """
 
-    def __init__(self, t, q, *, reference: str = "NED", body: str = "FRD", positions=None):
+    def __init__(self, t, q, *, reference: str | None = None, body: str | None = None, positions=None):
         from ..interpolate import RotationSpline
+
+        reference, body = _frames(q, reference, body)
+        self.reference, self.body = reference, body
 
         tv = _v.finite(t, "t", dtype=np.float64)
         if tv.ndim != 1 or tv.shape[0] < 2:
@@ -176,8 +192,8 @@ def sample_recorded(
     q,
     rate_hz: float | None = None,
     *,
-    reference: str = "NED",
-    body: str = "FRD",
+    reference: str | None = None,
+    body: str | None = None,
     positions=None,
     gyro: str = "increment",
     imu=None,
@@ -190,12 +206,13 @@ def sample_recorded(
     ----------
     t : array_like, shape (n,)
         Strictly increasing times of the recording, seconds.
-    q : array_like, shape (n, 4)
+    q : array_like or strapdown.Attitude, shape (n, 4)
         Recorded attitudes, body to ``reference``, scalar first.
     rate_hz : float, optional
         IMU sample rate; None: the recording's mean rate ``(n - 1)/(t[-1] - t[0])``.
-    reference, body : str
-        Frames of the recording, which are also the frames of the readings and the truth.
+    reference, body : str, optional
+        Frames of the recording, which are also the frames of the readings and the truth; by default those named
+        by an Attitude ``q``, else NED and FRD.
     positions : array_like, shape (n, 3), optional
         Recorded positions in ``reference`` (m); None: the body does not translate.
     gyro : {"increment", "rotvec", "average", "rate"}
@@ -235,8 +252,8 @@ def sample_recorded(
         imu=imu,
         magnetic_field=magnetic_field,
         seed=seed,
-        reference=reference,
-        body=body,
+        reference=motion.reference,
+        body=motion.body,
     )
     data.t = data.t + motion.t0
     data.t_true = data.t_true + motion.t0

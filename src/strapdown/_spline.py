@@ -4,8 +4,8 @@ On segment k, between the samples at t_k and t_{k+1} (h_k = t_{k+1} - t_k), the 
 ``q(t) = q_k ⊗ exp(r(t)/2)`` with r a cubic in ``s = t - t_k``, r(0) = 0 and r(h_k) = ``r_k``, the rotation vector
 of ``q_k* ⊗ q_{k+1}`` (the shorter way, |r_k| ≤ π).  The two remaining coefficients of each cubic come from the
 body rates at the knots, which are chosen so that the angular rate and the angular acceleration are continuous:
-the rotation-vector spline of scipy's ``RotationSpline`` (N. Mayorov, "Smooth attitude interpolation", scipy
-PR 10178; the same construction as Kim, Kim and Shin, SIGGRAPH 1995, for cumulative increments), with its end
+the rotation-vector spline of scipy's ``RotationSpline`` (whose reference is the note "Smooth attitude
+interpolation", https://github.com/scipy/scipy/files/2932755/attitude_interpolation.pdf), with its end
 conditions: the rate at the first and at the last sample is that segment's mean rate ``r/h``.
 
 Frames.  r is a body-frame increment (the attitude is updated on the right, strapdown's convention), so the

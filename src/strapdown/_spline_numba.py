@@ -163,7 +163,7 @@ def knot_rates(r, dt, w, max_iter, tol):
 
     The C² conditions at inner knot i (r̈ of segment i-1 at its end equals that of segment i at its start, each
     written through ω̇ = J r̈ + n) are, for the cubic segments of Hermite form (scipy's RotationSpline, after
-    "Smooth attitude interpolation", scipy issue 9893):
+    "Smooth attitude interpolation", the note scipy's docstring cites):
 
         2 J(r_{i-1})/h_{i-1} ω_{i-1} + 4 (1/h_{i-1} + 1/h_i) ω_i + 2 J⁻¹(r_i)/h_i ω_{i+1}
             = 6 (r_{i-1}/h_{i-1}² + r_i/h_i²) - n(r_{i-1}, J⁻¹(r_{i-1}) ω_i)

@@ -5,7 +5,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 from scipy.spatial.transform import RotationSpline as ScipySpline
 
-from conftest import random_quaternions, rotation_angle
+from conftest import random_quaternions, random_walk_quaternions, rotation_angle
 from strapdown import angle_between, integrate
 from strapdown.interpolate import RotationSpline
 
@@ -18,19 +18,11 @@ def converged_scipy(monkeypatch):
     return ScipySpline
 
 
-def random_walk(n, step, rng):
-    r = Rotation.from_rotvec(step * rng.standard_normal((n, 3)))
-    out = [r[0]]
-    for s in r[1:]:
-        out.append(out[-1] * s)
-    return Rotation.concatenate(out).as_quat(scalar_first=True)
-
-
 @pytest.mark.parametrize("step", [0.01, 0.3, None])  # None: independent uniformly random attitudes
 def test_matches_scipy(step, rng, converged_scipy):
     n = 60
     t = np.cumsum(rng.uniform(0.05, 1.0, n))
-    q = random_quaternions(n, rng) if step is None else random_walk(n, step, rng)
+    q = random_quaternions(n, rng) if step is None else random_walk_quaternions(n, step, rng)
     q *= rng.choice([-1.0, 1.0], (n, 1))  # signs must not matter
     ours = RotationSpline(t, q)
     theirs = converged_scipy(t, Rotation.from_quat(q, scalar_first=True))
@@ -45,7 +37,7 @@ def test_matches_scipy(step, rng, converged_scipy):
 def test_passes_through_samples_with_c2_continuity(rng):
     n = 30
     t = np.cumsum(rng.uniform(0.1, 1.0, n))
-    q = random_walk(n, 0.4, rng)
+    q = random_walk_quaternions(n, 0.4, rng)
     s = RotationSpline(t, q)
     assert rotation_angle(s(t), q).max() < 1e-14
     eps = 1e-9
@@ -62,7 +54,7 @@ def test_passes_through_samples_with_c2_continuity(rng):
 def test_rates_are_the_derivative_of_the_attitude(rng):
     # body rate: q* dq/dt = (0, ω/2); reference rate: dq/dt q* = (0, ω_ref/2); by central differences
     t = np.arange(20.0)
-    s = RotationSpline(t, random_walk(20, 0.5, rng))
+    s = RotationSpline(t, random_walk_quaternions(20, 0.5, rng))
     tn = rng.uniform(1, 18, 200)
     h = 1e-6
     dq = (s(tn + h) - s(tn - h)) / (2 * h)
@@ -116,7 +108,7 @@ def test_two_samples_is_slerp_at_constant_rate():
 
 def test_extrapolation_refused_or_as_scipy(rng, converged_scipy):
     t = np.arange(6.0)
-    q = random_walk(6, 0.3, rng)
+    q = random_walk_quaternions(6, 0.3, rng)
     with pytest.raises(ValueError, match=r"t\[1\] = 5.5 is outside the knots.*extrapolate=True"):
         RotationSpline(t, q)([1.0, 5.5])
     s = RotationSpline(t, q, extrapolate=True)
@@ -128,7 +120,7 @@ def test_extrapolation_refused_or_as_scipy(rng, converged_scipy):
 
 def test_several_series_at_once_are_the_single_splines(rng):
     t = np.cumsum(rng.uniform(0.1, 1.0, 12))
-    q = np.stack([random_walk(12, 0.4, rng) for _ in range(6)], axis=1).reshape(12, 2, 3, 4)
+    q = np.stack([random_walk_quaternions(12, 0.4, rng) for _ in range(6)], axis=1).reshape(12, 2, 3, 4)
     batch = RotationSpline(t, q)
     tn = rng.uniform(t[0], t[-1], (7, 5))
     for order, size in ((0, 4), (1, 3), (2, 3)):
@@ -152,7 +144,7 @@ def test_unsettled_knot_rates_are_reported(rng):
 
 def test_float32_shapes_and_errors(rng):
     t = np.arange(5.0)
-    q = random_walk(5, 0.3, rng).astype(np.float32)
+    q = random_walk_quaternions(5, 0.3, rng).astype(np.float32)
     s = RotationSpline(t, q)
     assert s(np.array([[0.5, 1.5], [2.5, 3.5]])).shape == (2, 2, 4)
     assert s(1.5, 1).shape == (3,) and s(1.5, 2).dtype == np.float32

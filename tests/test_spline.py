@@ -158,3 +158,42 @@ def test_float32_shapes_and_errors(rng):
         RotationSpline(t, q[None])
     with pytest.raises(ValueError, match="n ≥ 2"):
         RotationSpline([0.0], q[:1])
+
+
+def test_invariance_under_constant_rotations(rng):
+    """Physics the construction must respect (independent of scipy): a fixed change of reference frame does not
+    change the body rates, and a fixed change of body axes rotates them (the spline is equivariant)."""
+    from strapdown.quaternion import multiply, rotate
+
+    t = np.cumsum(rng.uniform(0.1, 1.0, 15))
+    q = random_walk_quaternions(15, 0.5, rng)
+    p, c = random_quaternions(2, rng)
+    tn = rng.uniform(t[0], t[-1], 300)
+    base = RotationSpline(t, q)
+    left = RotationSpline(t, multiply(p, q))  # the same motion seen from a turned reference frame
+    right = RotationSpline(t, multiply(q, c))  # the same motion of body axes turned by c
+    c_inv = c * [1, -1, -1, -1]
+    assert rotation_angle(left(tn), multiply(p, base(tn))).max() < 1e-13
+    assert rotation_angle(right(tn), multiply(base(tn), c)).max() < 1e-13
+    for order in (1, 2):
+        np.testing.assert_allclose(left(tn, order), base(tn, order), atol=1e-12)
+        np.testing.assert_allclose(right(tn, order), rotate(c_inv, base(tn, order)), atol=1e-12)
+        np.testing.assert_allclose(
+            left(tn, order, rate_frame="reference"), rotate(p, base(tn, order, rate_frame="reference")), atol=1e-12
+        )
+
+
+def test_time_reversal_is_third_order(rng):
+    # Each cubic is anchored at its segment's first sample, so the spline played backwards is not exactly the same
+    # curve (as scipy's): the two agree at the samples and differ by a third-order term in the step size
+    differences = []
+    t = np.cumsum(rng.uniform(0.5, 1.0, 30))
+    for step in (0.1, 0.05):
+        q = random_walk_quaternions(30, step, np.random.default_rng(5))  # the same path, half the angles
+        fwd = RotationSpline(t, q)
+        back = RotationSpline(-t[::-1], q[::-1])
+        assert rotation_angle(back(-t), q).max() < 1e-14
+        tn = np.linspace(t[3], t[-4], 3000)
+        differences.append(rotation_angle(back(-tn), fwd(tn)).max())
+        np.testing.assert_allclose(back(-tn, 1), -fwd(tn, 1), atol=10 * differences[-1])
+    assert 7 < differences[0] / differences[1] < 9  # (0.1 / 0.05)³ = 8

@@ -12,8 +12,15 @@ from __future__ import annotations
 import math
 
 import numba as nb
+import numpy as np
 
 from ._quaternion_numba import qmul
+
+
+def norm_limits(dtype) -> tuple[float, float]:
+    """(tiny, huge): the squared norms the kernels accept, those :func:`strapdown._validate.quaternions` accepts."""
+    info = np.finfo(dtype)
+    return float(info.tiny), float(info.max)
 
 
 @nb.njit(cache=True, error_model="numpy")

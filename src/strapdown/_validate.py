@@ -109,15 +109,6 @@ def quaternions(q, name: str = "q", *, check: bool = True, nonzero: bool = True,
     return arr
 
 
-def norm_limits(dtype) -> tuple[float, float]:
-    """(tiny, huge): the squared norms a quaternion of this dtype may have, as :func:`quaternions` requires.
-
-    For kernels that check their input in the same pass as they use it.
-    """
-    info = np.finfo(dtype)
-    return float(info.tiny), float(info.max)
-
-
 def nonzero_rows(arr: np.ndarray, name: str) -> None:
     """Raise if a row of (..., 4) is all zeros (for rules that need no norm, such as the sign choice)."""
     zero = ~np.any(arr != 0, axis=-1)

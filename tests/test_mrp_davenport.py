@@ -202,3 +202,18 @@ def test_scipy_davenport_degenerate_cases():
             q = from_davenport(ax, order, angles)
             back = from_davenport(ax, order, as_davenport(q, ax, order))
             assert rotation_angle(back, q).max() < 1e-14
+
+
+def test_quaternions_of_any_finite_size(rng):
+    # a rotation quaternion's norm does not matter: 1e±200 (whose |q|² over- or underflows) and subnormal rows
+    # give the results of the unit quaternion, with no warning
+    q = random_quaternions(50, rng)
+    axes = [EZ, EY, EX]
+    for scale in (1e200, 1e-200, 1e-310):
+        np.testing.assert_allclose(as_mrp(q * scale), as_mrp(q), atol=1e-15 if scale > 1e-300 else 1e-7)
+        np.testing.assert_allclose(
+            wrapped(as_davenport(q * scale, axes, "i") - as_davenport(q, axes, "i")),
+            0,
+            atol=1e-13 if scale > 1e-300 else 1e-6,
+        )
+    assert np.isfinite(as_mrp([5e-324, 0, 0, 0])).all()

@@ -3,8 +3,8 @@
 The kernels take rows (any strides) and compute in float64 whatever the storage type; the callers allocate
 ``out`` in the input's dtype.  They check their input as they go, in the same pass (a separate validation pass
 would cost as much as the conversion): each returns -1, or the index of the first row that is not finite (or, for
-quaternions, whose squared norm is not in [tiny, huge)), and the caller then lets :mod:`strapdown._validate`
-raise its usual error for that input.
+quaternions, is zero), and the caller then lets :mod:`strapdown._validate` raise its usual error for that input.
+Quaternions of any finite non-zero size are used (see ``_quaternion_row``).
 """
 
 from __future__ import annotations
@@ -12,15 +12,8 @@ from __future__ import annotations
 import math
 
 import numba as nb
-import numpy as np
 
 from ._quaternion_numba import qmul
-
-
-def norm_limits(dtype) -> tuple[float, float]:
-    """(tiny, huge): the squared norms the kernels accept, those :func:`strapdown._validate.quaternions` accepts."""
-    info = np.finfo(dtype)
-    return float(info.tiny), float(info.max)
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -56,23 +49,38 @@ def from_mrp_rows(p, out):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
-def _bad_norm(n2, tiny, huge):
-    """Whether a squared norm cannot stand for a rotation (zero, subnormal, overflowing or NaN)."""
-    return not (n2 >= tiny and n2 < huge)
-
-
-@nb.njit(cache=True, inline="always", error_model="numpy")
 def _quaternion_row(q, n):
-    """Row n of q in float64, and its squared norm."""
+    """Row n of q in float64 and its squared norm; the norm is positive and finite unless q is zero or not finite.
+
+    A row whose squared norm would overflow or underflow (|q| beyond about 1e±145; never for float32 input) is
+    first scaled by a power of two, exactly, which leaves its rotation unchanged: such q are as good as any.  The
+    test is a branch that is almost never taken, so it costs nothing on ordinary data.
+    """
     w = float(q[n, 0])
     x = float(q[n, 1])
     y = float(q[n, 2])
     z = float(q[n, 3])
-    return w, x, y, z, w * w + x * x + y * y + z * z
+    n2 = w * w + x * x + y * y + z * z
+    if not (n2 > 1e-290 and n2 < 1e290):
+        big = max(abs(w), abs(x), abs(y), abs(z))
+        if big > 0.0 and big < math.inf:
+            e = math.frexp(big)[1]
+            w = math.ldexp(w, -e)
+            x = math.ldexp(x, -e)
+            y = math.ldexp(y, -e)
+            z = math.ldexp(z, -e)
+            n2 = w * w + x * x + y * y + z * z
+    return w, x, y, z, n2
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _unusable(n2):
+    """A squared norm from _quaternion_row that is zero or NaN or infinite: no rotation."""
+    return not (n2 > 0.0 and n2 < math.inf)
 
 
 @nb.njit(cache=True, error_model="numpy")
-def as_mrp_rows(q, out, tiny, huge):
+def as_mrp_rows(q, out):
     """MRPs p = v / (|q| + |w|) with the sign of w: the short set, |p| = tan(χ/4) ≤ 1 for χ in [0, π].
 
     At w = 0 (χ = 180°) both sets have |p| = 1; the sign rule of ``quaternion.canonical`` (first non-zero
@@ -81,7 +89,7 @@ def as_mrp_rows(q, out, tiny, huge):
     bad = -1
     for n in range(out.shape[0]):
         w, x, y, z, n2 = _quaternion_row(q, n)
-        if bad < 0 and _bad_norm(n2, tiny, huge):
+        if bad < 0 and _unusable(n2):
             bad = n
         norm = math.sqrt(n2)
         # sgn(w) without a branch on it (its sign is random for random attitudes: a branch would be mispredicted
@@ -135,7 +143,7 @@ def _wrap(a):
 
 
 @nb.njit(cache=True, error_model="numpy")
-def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out, tiny, huge):
+def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
     """Davenport angles of the extrinsic sequence (n1, n2, n3) (the caller reverses an intrinsic one).
 
     Shuster and Markley (2003), in the direct half-angle form of Bernardes and Viollet (2022) as scipy uses it:
@@ -153,7 +161,7 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out, tiny, hug
     bad = -1
     for n in range(out.shape[0]):
         qw, qx, qy, qz, norm2 = _quaternion_row(q, n)
-        if bad < 0 and _bad_norm(norm2, tiny, huge):
+        if bad < 0 and _unusable(norm2):
             bad = n
         w, x, y, z = qmul(ch, sh * n2[0], sh * n2[1], sh * n2[2], qw, qx, qy, qz)
         a = w

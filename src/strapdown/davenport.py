@@ -158,11 +158,11 @@ def as_davenport(q, axes, order: str, degrees: bool = False, *, check: bool = Tr
         lam = -lam
     rows = q.reshape(-1, 4)
     out = np.empty((rows.shape[0], 3), dtype=q.dtype)
-    from ._rotations_numba import as_davenport_rows, norm_limits
+    from ._rotations_numba import as_davenport_rows
 
     n1, n2, n3 = (np.ascontiguousarray(n) for n in (n1, n2, n3))
     scale = 180.0 / np.pi if degrees else 1.0
-    if as_davenport_rows(rows, n1, n2, n3, lam, flip, extrinsic, scale, out, *norm_limits(q.dtype)) >= 0 and check:
+    if as_davenport_rows(rows, n1, n2, n3, lam, flip, extrinsic, scale, out) >= 0 and check:
         _v.quaternions(q, "q")  # checked as it goes (see the kernel); the usual message from here
     return out.reshape((*q.shape[:-1], 3))
 

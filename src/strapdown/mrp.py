@@ -78,9 +78,9 @@ def as_mrp(q, *, check: bool = True) -> np.ndarray:
     q = _v.quaternions(q, "q", check=False)
     rows = q.reshape(-1, 4)
     out = np.empty((rows.shape[0], 3), dtype=q.dtype)
-    from ._rotations_numba import as_mrp_rows, norm_limits
+    from ._rotations_numba import as_mrp_rows
 
-    if as_mrp_rows(rows, out, *norm_limits(q.dtype)) >= 0 and check:  # checked as it goes (see the kernel)
+    if as_mrp_rows(rows, out) >= 0 and check:  # checked as it goes (see the kernel)
         _v.quaternions(q, "q")
     return out.reshape((*q.shape[:-1], 3))
 

@@ -4,7 +4,7 @@ The kernels take rows (any strides) and compute in float64 whatever the storage 
 ``out`` in the input's dtype.  They check their input as they go, in the same pass (a separate validation pass
 would cost as much as the conversion): each returns -1, or the index of the first row that is not finite (or, for
 quaternions, is zero), and the caller then lets :mod:`strapdown._validate` raise its usual error for that input.
-Quaternions of any finite non-zero size are used (see ``_quaternion_row``).
+Quaternions of any finite non-zero size are used.
 """
 
 from __future__ import annotations
@@ -50,33 +50,46 @@ def from_mrp_rows(p, out):
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def _quaternion_row(q, n):
-    """Row n of q in float64 and its squared norm; the norm is positive and finite unless q is zero or not finite.
-
-    A row whose squared norm would overflow or underflow (|q| beyond about 1e±145; never for float32 input) is
-    first scaled by a power of two, exactly, which leaves its rotation unchanged: such q are as good as any.  The
-    test is a branch that is almost never taken, so it costs nothing on ordinary data.
-    """
+    """Row n of q in float64, and its squared norm."""
     w = float(q[n, 0])
     x = float(q[n, 1])
     y = float(q[n, 2])
     z = float(q[n, 3])
-    n2 = w * w + x * x + y * y + z * z
-    if not (n2 > 1e-290 and n2 < 1e290):
-        big = max(abs(w), abs(x), abs(y), abs(z))
-        if big > 0.0 and big < math.inf:
-            e = math.frexp(big)[1]
-            w = math.ldexp(w, -e)
-            x = math.ldexp(x, -e)
-            y = math.ldexp(y, -e)
-            z = math.ldexp(z, -e)
-            n2 = w * w + x * x + y * y + z * z
-    return w, x, y, z, n2
+    return w, x, y, z, w * w + x * x + y * y + z * z
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
-def _unusable(n2):
-    """A squared norm from _quaternion_row that is zero or NaN or infinite: no rotation."""
-    return not (n2 > 0.0 and n2 < math.inf)
+def _ordinary(n2):
+    """Whether a squared norm is far from overflow and underflow (False for zero, NaN and infinity too)."""
+    return n2 > 1e-290 and n2 < 1e290
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _rescaled(w, x, y, z):
+    """The row scaled by a power of two (exact; the rotation is unchanged) so that its squared norm is ordinary.
+
+    Returns the components and the new squared norm, which is 0, NaN or infinite for a zero or non-finite row.
+    """
+    big = max(abs(w), abs(x), abs(y), abs(z))
+    if big > 0.0 and big < math.inf:
+        e = math.frexp(big)[1]
+        w = math.ldexp(w, -e)
+        x = math.ldexp(x, -e)
+        y = math.ldexp(y, -e)
+        z = math.ldexp(z, -e)
+    return w, x, y, z, w * w + x * x + y * y + z * z
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _mrp(w, x, y, z, n2):
+    """The MRP sgn(w) v / (|q| + |w|) of one row, scale-invariant in q."""
+    # sgn(w) without a branch on it (its sign is random for random attitudes: a branch would be mispredicted
+    # half the time); the tie w = ±0 is rare and takes the canonical rule
+    s = math.copysign(1.0, w)
+    if w == 0.0:
+        s = -1.0 if (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0)))) else 1.0
+    f = s / (math.sqrt(n2) + abs(w))
+    return x * f, y * f, z * f
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -84,24 +97,26 @@ def as_mrp_rows(q, out):
     """MRPs p = v / (|q| + |w|) with the sign of w: the short set, |p| = tan(χ/4) ≤ 1 for χ in [0, π].
 
     At w = 0 (χ = 180°) both sets have |p| = 1; the sign rule of ``quaternion.canonical`` (first non-zero
-    component positive) picks one, so q and -q agree.
+    component positive) picks one, so q and -q agree.  Quaternions of any finite non-zero size are used: rows
+    whose squared norm would overflow or underflow (|q| beyond about 1e±145, never for float32) are redone
+    after an exact rescaling, in a second loop, so that the first one stays simple enough to vectorise.
     """
-    bad = -1
+    odd = -1
     for n in range(out.shape[0]):
         w, x, y, z, n2 = _quaternion_row(q, n)
-        if bad < 0 and _unusable(n2):
-            bad = n
-        norm = math.sqrt(n2)
-        # sgn(w) without a branch on it (its sign is random for random attitudes: a branch would be mispredicted
-        # half the time); the tie w = ±0 is rare and takes the canonical rule
-        s = math.copysign(1.0, w)
-        if w == 0.0:
-            s = -1.0 if (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0)))) else 1.0
-        f = s / (norm + abs(w))
-        out[n, 0] = x * f
-        out[n, 1] = y * f
-        out[n, 2] = z * f
-    return bad
+        if odd < 0 and not _ordinary(n2):
+            odd = n
+        out[n, 0], out[n, 1], out[n, 2] = _mrp(w, x, y, z, n2)
+    if odd < 0:
+        return -1
+    for n in range(odd, out.shape[0]):
+        w, x, y, z, n2 = _quaternion_row(q, n)
+        if not _ordinary(n2):
+            w, x, y, z, n2 = _rescaled(w, x, y, z)
+            if not _ordinary(n2):
+                return n  # zero, NaN or infinite
+            out[n, 0], out[n, 1], out[n, 2] = _mrp(w, x, y, z, n2)
+    return -1
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -160,8 +175,13 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
     sh = math.sin(0.5 * lam)
     bad = -1
     for n in range(out.shape[0]):
-        qw, qx, qy, qz, norm2 = _quaternion_row(q, n)
-        if bad < 0 and _unusable(norm2):
+        qw = float(q[n, 0])
+        qx = float(q[n, 1])
+        qy = float(q[n, 2])
+        qz = float(q[n, 3])
+        # a, b, c and d are linear in q and only their ratios count (atan2, hypot): any finite non-zero size will do
+        big = max(abs(qw), abs(qx), abs(qy), abs(qz))
+        if bad < 0 and not (big > 0.0 and big < math.inf):
             bad = n
         w, x, y, z = qmul(ch, sh * n2[0], sh * n2[1], sh * n2[2], qw, qx, qy, qz)
         a = w

@@ -68,9 +68,11 @@ def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool =
     ----------
     angles : array_like, shape (..., 3)
         The three angles in the order of ``seq`` (for ``"ZYX"``: yaw ψ, pitch θ, roll φ).  Any real values are
-        accepted; they need not lie in the output ranges of :func:`as_euler`.
+        accepted; they need not lie in the output ranges of :func:`as_euler`.  For a sequence of one or two
+        axes, shape (..., 1) or (..., 2), and a single number for one axis (as scipy).
     seq : str
-        Axis sequence: ``"ZYX"``, ``"ZXY"``, ``"ZXZ"``, ... (intrinsic) or ``"xyz"``, ... (extrinsic).
+        Axis sequence: ``"ZYX"``, ``"ZXY"``, ``"ZXZ"``, ... (intrinsic) or ``"xyz"``, ... (extrinsic); also
+        one or two axes (``"z"``, ``"ZY"``), see :mod:`strapdown.davenport`.
     degrees : bool
         Angles in degrees instead of radians.
     check : bool
@@ -96,6 +98,10 @@ def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool =
     array([[0.965926, 0.258819, 0.      , 0.      ],
            [0.965926, 0.      , 0.258819, 0.      ]])
     """
+    if isinstance(seq, str) and len(seq) in (1, 2):  # scipy's one- and two-axis sequences
+        from .davenport import from_short_euler
+
+        return from_short_euler(angles, seq, degrees, check)
     intrinsic, axes = _parse_seq(seq)
     angles = _v.finite(angles, "angles", check=check)
     _v.check_last_axis(angles, "angles", 3, f"one angle per axis of {seq!r}")

@@ -64,6 +64,13 @@ class Estimate:
     def __len__(self) -> int:
         return self.q.shape[0]
 
+    @property
+    def attitude(self):
+        """``q`` as a :class:`strapdown.Attitude` (sensor axes, not named, to ``frame``), sharing its memory."""
+        from ..attitude import Attitude
+
+        return Attitude._wrap(self.q, self.frame, None)
+
     @cached_property
     def tilt(self) -> np.ndarray:
         """Tilt quaternions e of ``q = q_z(ψ) ⊗ e`` (the Rowe patent's form, e3 = 0), shape (N, 4).

@@ -240,7 +240,7 @@ def test_matlab_v5_short_logs_keep_their_orientation(tmp_path, n):
 
     gyr = np.arange(3.0 * n).reshape(n, 3) / 10
     path = tmp_path / "short.mat"
-    acc = gyr + [0.0, 0.0, 9.5]  # |acc| near g: the unit check refuses |a| far from it (issue 12)
+    acc = gyr + np.array([0.0, 0.0, 9.5])  # |acc| near g: the unit check refuses |a| far from it (issue 12)
     scipy.io.savemat(path, {"imu_gyr": gyr, "imu_acc": acc, "sampling_rate": 50.0})  # BROAD's layout
     data = read_imu(path, optional=("acc",))
     np.testing.assert_array_equal(data.gyro, gyr)

@@ -188,7 +188,7 @@ class ImuFile:
         increments: bool = False,
     ):
         self.spec = columns or ImuColumns()
-        options = {k: getattr(self.spec, k) for k in ("topic", "mag_topic") if getattr(self.spec, k) is not None}
+        options = {k: getattr(self.spec, k) for k in ("topic", "mag_topic", "time_unit") if getattr(self.spec, k)}
         self.source: Source = open_source(path, self.spec.format, **options)
         self.path = self.source.path
         self.format = self.source.format
@@ -207,11 +207,12 @@ class ImuFile:
         self.units: dict[str, str] = {}
         for kind in (*require, *optional):
             given = getattr(spec, kind)
-            pick = (
-                pick_vector(given, fields, f"--{kind}")
-                if given
-                else detect_vector(kind, fields, units=self.source.units)
-            )
+            if given:
+                pick = pick_vector(given, fields, f"--{kind}")
+            elif kind in self.source.presets:
+                pick = Pick(tuple(self.source.presets[kind]))
+            else:
+                pick = detect_vector(kind, fields, units=self.source.units)
             if pick is None:
                 if kind in require:
                     raise ValueError(
@@ -249,6 +250,8 @@ class ImuFile:
             self.rate = float(spec.rate)
         elif spec.time:
             self.time = pick_vector(spec.time, fields, "--time", width=1)
+        elif "time" in self.source.presets:
+            self.time = Pick(tuple(self.source.presets["time"]))
         else:
             self.time = detect_time(fields)
             if self.time is None:
@@ -264,7 +267,8 @@ class ImuFile:
         self.period = None if self.rate is None else 1.0 / self.rate
         self._t0 = 0.0
         if self.time is not None:
-            declared = self.spec.time_unit
+            # a decoded log's t is seconds already: a --time-unit was the reader's, for the files' own columns
+            declared = "s" if self.source.time_in_seconds else self.spec.time_unit
             self.units["time"] = parse_unit("time", declared) if declared else (self.time.unit_hint or "s")
             self._resolve_time_unit(declared is not None or self.time.unit_hint is not None)
 

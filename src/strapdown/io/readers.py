@@ -176,8 +176,8 @@ def input_format(path, format: str | None = None) -> str:
     Examples
     --------
     >>> from strapdown.io.readers import input_format
-    >>> input_format("flight.ulg"), input_format("imu.csv")
-    ('ulog', 'csv')
+    >>> input_format("flight.ulg"), input_format("run.bag"), input_format("imu.csv")
+    ('ulog', 'rosbag', 'csv')
     """
     return choose(path, format).name
 
@@ -193,7 +193,8 @@ def open_source(path, format: str | None = None, **options) -> Source:
     format : str, optional
         One of :data:`INPUT_FORMATS`; by default from the layout, suffix or content.
     **options
-        The format's options: ``topic``, ``mag_topic`` (bags, ULog).
+        The format's options: ``topic``, ``mag_topic`` (bags, ULog), ``time_unit`` (several files, exports:
+        the unit of their integer time columns; tables take it in :class:`~strapdown.io.ImuFile`).
 
     Returns
     -------
@@ -221,6 +222,8 @@ def open_source(path, format: str | None = None, **options) -> Source:
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
     fmt = choose(path, format)
+    if "time_unit" not in fmt.options:
+        options.pop("time_unit", None)  # a table's time column gets its unit in ImuFile
     unknown = set(options) - set(fmt.options)
     given = {k: v for k, v in options.items() if v is not None}
     if unknown & set(given):

@@ -84,7 +84,7 @@ def formats() -> dict[str, Format]:
     Examples
     --------
     >>> from strapdown.io.registry import formats
-    >>> {"csv", "parquet", "hdf5", "mat", "ulog"} <= set(formats())
+    >>> {"csv", "ulog", "rosbag", "sensorlogger", "phyphox", "euroc"} <= set(formats())
     True
     """
     from . import formats as _modules  # noqa: F401  (importing registers the built-in formats)

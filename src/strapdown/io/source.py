@@ -85,6 +85,10 @@ class Source:
     upright : bool
         The format's vehicles start upright (a drone on the ground): an accelerometer reading gravity
         downwards at rest is then a sign error, not a pose.
+    presets : dict of str to tuple of str
+        The fields a format knows hold "gyro", "acc", "mag" or "time", used before any detection by name.
+    time_in_seconds : bool
+        The time field is already in seconds from the first sample (decoded and merged logs).
     """
 
     format = ""
@@ -103,6 +107,8 @@ class Source:
         self.body: str | None = None
         self.time_origin: TimeOrigin | None = None
         self.upright = False
+        self.presets: dict[str, tuple] = {}  # kind -> the fields a format knows hold it (before name detection)
+        self.time_in_seconds = False  # the time field is already seconds (decoded logs): no unit to infer
 
     def _origin(self, name: str, first) -> int | None:
         """The first value of a timestamp field in ns since the epoch: one origin per file, whatever the rows read."""
@@ -256,6 +262,7 @@ class MemorySource(Source):
 
     def __init__(self, path: Path, columns: Mapping[str, np.ndarray], format: str):
         super().__init__(Path(path))
+        self.time_in_seconds = "t" in columns
         self.format = format
         self._columns = {k: np.asarray(v) for k, v in columns.items()}
         lengths = {v.shape[0] for v in self._columns.values()}

@@ -6,10 +6,15 @@ Tables: :mod:`.csv`, :mod:`.parquet`, :mod:`.hdf5`, :mod:`.mat`.  Logs and expor
 Nothing heavy is imported until a file is opened.
 """
 
-from . import (  # noqa: F401  (tables first: their suffixes are the common case)
+from . import (  # noqa: F401  (tables first: their suffixes are the common case)  # noqa: F401
     csv,
+    euroc,
     hdf5,
     mat,
+    multi,
     parquet,
+    phyphox,
+    rosbag,
+    sensorlogger,
     ulog,
 )

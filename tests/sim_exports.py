@@ -52,7 +52,7 @@ def sensor_logger(folder: Path, data, *, total=True, rate_div=(1, 1, 2), jitter_
         ns = EPOCH_NS + t_ns[::step] + jitter_ns[k]
         v = values[::step]
         rows = (
-            (str(int(a)), repr((int(a) - EPOCH_NS) / 1e9), repr(z), repr(y), repr(x))
+            (str(int(a)), repr((int(a) - EPOCH_NS) / 1e9), repr(float(z)), repr(float(y)), repr(float(x)))
             for a, (x, y, z) in zip(ns, v, strict=True)
         )
         _write(folder / name, "time,seconds_elapsed,z,y,x", rows)
@@ -96,7 +96,7 @@ def euroc(folder: Path, data, t0_ns=1_403_636_579_758_555_392):
     header += ",".join(f"a_RS_S_{c} [m s^-2]" for c in "xyz")
     ns = t0_ns + np.round(data.t[:-1] * 1e9).astype(np.int64)
     rows = (
-        (str(int(a)), *(repr(x) for x in w), *(repr(x) for x in f))
+        (str(int(a)), *(repr(float(x)) for x in w), *(repr(float(x)) for x in f))
         for a, w, f in zip(ns, data.gyro, data.acc, strict=True)
     )
     return _write(folder / "mav0" / "imu0" / "data.csv", header, rows)

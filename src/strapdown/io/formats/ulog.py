@@ -157,13 +157,14 @@ def read_attitude(path, topic: str | None = None):
 
     Examples
     --------
-    >>> import pathlib
     >>> from strapdown.io.formats.ulog import read_attitude
-    >>> t, q, origin = read_attitude(pathlib.Path("tests/data/px4/sample_log_small.ulg"))
-    >>> q.shape[1], origin.unit, origin.kind
-    (4, 'us', 'boot')
+    >>> read_attitude("no/such/log.ulg")
+    Traceback (most recent call last):
+    FileNotFoundError: no such file: no/such/log.ulg
     """
     path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no such file: {path}")
     ulog = _load(path, ("vehicle_attitude", "sensor_combined", "sensor_gyro"))
     if topic is None:
         topic = "sensor_combined" if _has(ulog, "sensor_combined") else "sensor_gyro"

@@ -184,7 +184,28 @@ def test_output_has_ordinary_permissions(tmp_path):
 
 @pytest.mark.parametrize(
     "module",
-    ["io.units", "io.columns", "io.readers", "io.writers", "io.imu", "io.tables", "io.pipeline", "io.plots", "batch"],
+    [
+        "io.units",
+        "io.columns",
+        "io.readers",
+        "io.writers",
+        "io.imu",
+        "io.tables",
+        "io.pipeline",
+        "io.plots",
+        "batch",
+        "io.registry",
+        "io.reference",
+        "io.timebase",
+        "io.merge",
+        "io.formats.mat",
+        "io.formats.multi",
+        "io.formats.ulog",
+        "io.formats.rosbag",
+        "io.formats.euroc",
+        "io.formats.sensorlogger",
+        "io.formats.phyphox",
+    ],
 )
 def test_public_functions_have_numpy_docstrings_with_examples(module):
     import importlib

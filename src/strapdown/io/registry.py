@@ -76,6 +76,10 @@ def register(fmt: Format) -> Format:
 def formats() -> dict[str, Format]:
     """The registered formats by name (the registry itself).
 
+    Parameters
+    ----------
+    None
+
     Returns
     -------
     dict of str to Format

@@ -16,7 +16,7 @@ from ..registry import Format, register
 from ..source import Source, _from_origin, check_chunk_rows
 from .hdf5 import Hdf5Source
 
-__all__ = ["COLUMNS_VARIABLE", "MAX_MAT_BYTES", "MatSource", "MatV73Source"]
+__all__ = ["COLUMNS_VARIABLE", "MAX_MAT_BYTES", "MatSource", "MatV73Source", "expanded_size"]
 
 #: Largest MATLAB v5 file content (all numeric variables, uncompressed) read into memory, bytes.
 MAX_MAT_BYTES = 1 << 30

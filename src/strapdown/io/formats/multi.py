@@ -418,6 +418,15 @@ class Export:
         """The file ``name`` of the export, or None."""
         return find_in_folder(self._folder, name)
 
+    def sensor_files(self, preferences: dict) -> dict:
+        """The first present of each sensor's file names, as ``{path: kind}``."""
+        chosen = {}
+        for kind, names in preferences.items():
+            found = next((p for p in map(self.get, names) if p is not None), None)
+            if found is not None:
+                chosen[found] = kind
+        return chosen
+
     def close(self) -> None:
         """Remove what was unzipped."""
         if self._unzipped is not None:

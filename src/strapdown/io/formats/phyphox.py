@@ -97,11 +97,7 @@ def open_phyphox(path, time_unit: str | None = None):
     """
     path = Path(path)
     with Export(path, _ALL) as export:
-        chosen = {}
-        for kind, names in SENSOR_FILES.items():
-            found = next((export.get(n) for n in names if export.get(n) is not None), None)
-            if found is not None:
-                chosen[found] = kind
+        chosen = export.sensor_files(SENSOR_FILES)
         if not chosen and export.get("Raw Data.csv") is not None:
             chosen[export.get("Raw Data.csv")] = None  # one sensor: told by its column names
         streams = open_streams(list(chosen), kinds={p: k for p, k in chosen.items() if k})

@@ -85,11 +85,7 @@ def open_sensorlogger(path, time_unit: str | None = None):
     """
     path = Path(path)
     with Export(path, _ALL) as export:
-        chosen = {}
-        for kind, names in SENSOR_FILES.items():
-            found = next((export.get(n) for n in names if export.get(n) is not None), None)
-            if found is not None:
-                chosen[found] = kind
+        chosen = export.sensor_files(SENSOR_FILES)
         streams = open_streams(list(chosen), kinds=chosen)
         gravity = export.get("Gravity.csv")
         acc = streams.get("acc")

@@ -189,6 +189,9 @@ def test_euroc_folder_and_its_data_csv(tmp_path):
         assert imu.period == pytest.approx(np.median(np.diff(data.t)), abs=1e-7)  # the clock drifts: not 5 ms
     got = read_imu(csv, optional=("acc",))
     np.testing.assert_array_equal(got.acc, data.acc)
+    assert imu.frame is None and imu.body is None  # the IMU's own axes: no preset
+    pitch, roll = level_angles(got, "ENU")  # simulated level in FLU axes
+    assert pitch < 2.0 and roll < 2.0
 
 
 def test_several_files_one_per_sensor_merge_on_the_gyro_rows(tmp_path):
@@ -201,6 +204,8 @@ def test_several_files_one_per_sensor_merge_on_the_gyro_rows(tmp_path):
     # the accelerometer's samples are 1.2 ms after the gyro's: each lands on its own gyro row
     np.testing.assert_allclose(got.acc, data.acc, rtol=1e-15)
     assert got.t[0] == 0.0 and imu.time_origin.value == sim.EPOCH_NS
+    pitch, roll = level_angles(got, "ENU")
+    assert pitch < 2.0 and roll < 2.0
 
 
 def test_generic_csv_with_a_unit_row_semicolons_and_decimal_commas(tmp_path):

@@ -277,8 +277,7 @@ class ImuFile:
         name = self.time.fields[0]
         integer = name in self.source.integers and not self._timestamps
         relative = (name,) if integer else ()
-        head = next(iter(self.source.chunks([name], 4096, 0, 4096, relative=relative)), (0, {name: np.zeros(0)}))
-        values = head[1][name]
+        values = self._head(relative)[name]
         steps = np.diff(values[np.isfinite(values)])
         step = float(np.median(steps)) if steps.size else None
         if self._timestamps:
@@ -336,14 +335,26 @@ class ImuFile:
         parts += self.notes
         return "; ".join(parts)
 
+    def _head(self, relative=()) -> dict:
+        """The first 4096 rows of the time, accelerometer and magnetometer fields, read once.
+
+        One pass serves both the time-unit inference and the checks of :meth:`_probe`.
+        """
+        if getattr(self, "_head_cols", None) is None:
+            names = list(self.time.fields) if self.time is not None else []
+            names += [f for k in ("acc", "mag") if k in self.picks for f in self.picks[k].fields]
+            names = list(dict.fromkeys(names))
+            empty = {n: np.zeros(0 if self.source.fields[n] == 1 else (0, self.source.fields[n])) for n in names}
+            self._head_cols = next(iter(self.source.chunks(names, 4096, 0, 4096, relative=relative)), (0, empty))[1]
+        return self._head_cols
+
     def _probe(self) -> None:
         """Checks on the first rows that decide how the file is read: a normalised magnetometer, gravity's sign."""
         kinds = [k for k in ("acc", "mag") if k in self.picks]
         if not kinds or not self.spec.unit_check:
             return
-        names = list(dict.fromkeys(f for k in kinds for f in self.picks[k].fields))
-        _, cols = next(iter(self.source.chunks(names, 4096, 0, 4096)), (0, None))
-        if cols is None:
+        cols = self._head()
+        if not len(next(iter(cols.values()))):
             return
         if "mag" in self.picks and self.spec.mag_unit is None and self.picks["mag"].unit_hint is None:
             raw = _assemble(cols, self.picks["mag"])

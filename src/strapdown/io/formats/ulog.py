@@ -118,10 +118,8 @@ class UlogSource(MemorySource):
             for i in range(3):
                 cols[mag_names[i]] = m[:, i]
         super().__init__(path, cols, "ulog")
-        self.sparse = {n for n in cols if n.startswith(prefix_a) and gyro.name != "sensor_combined"}
-        self.sparse |= {n for n in cols if mag is not None and n.startswith(mag[0].name + "/")}
-        if gyro.name == "sensor_combined":
-            self.sparse |= {n for n in cols if n.startswith(prefix_a)} if np.isnan(a).any() else set()
+        # a slower sensor on the gyro's rows, or sensor_combined rows without an accelerometer sample
+        self.sparse = {n for n, v in cols.items() if n != "t" and np.isnan(v).any()}
         self.frame, self.body, self.upright = "NED", "FRD", True
         self.time_origin = TimeOrigin(int(t_us[0]), "us", "boot")
         self.topic = topic

@@ -49,6 +49,20 @@ def test_px4_ulog_reads_sensor_combined_in_si_with_boot_time_and_ned_frd(log):
     assert 20 < np.median(b) < 70
 
 
+def test_px4_metadata_says_format_frames_and_origin():
+    from strapdown.io import read_metadata
+
+    meta = read_metadata(DATA / "px4" / "sample_logging_tagged_and_default_params.ulg")
+    assert meta == {
+        "format": "ulog",
+        "frame": "NED",
+        "body": "FRD",
+        "time_origin": "284000",
+        "time_origin_unit": "us",
+        "time_origin_kind": "boot",
+    }
+
+
 def test_px4_log_gap_after_the_first_sample_is_reported_not_read_through():
     # the small log's first sensor_combined sample is 161 ms before the second (logging starting up)
     with pytest.raises(ValueError, match=r"a gap of 0\.161303 s .* before row 1"):

@@ -117,7 +117,8 @@ def read_metadata(path, format: str | None = None) -> dict[str, str]:
     -------
     dict of str to str
         Parquet schema metadata, HDF5 root attributes, MATLAB text variables, or the ``# key: value`` comment
-        lines before a CSV header; empty for files that carry none.
+        lines before a CSV header; empty for files that carry none.  For a log, bag or export (not a table):
+        what its reader knows, ``format``, ``frame``, ``body`` and the ``time_origin`` items.
 
     Examples
     --------
@@ -128,6 +129,11 @@ def read_metadata(path, format: str | None = None) -> dict[str, str]:
     >>> read_metadata(path)
     {'frame': 'NED'}
     """
+    if isinstance(path, list | tuple) or not choose(path, format).table:
+        with open_source(path, format) as src:
+            out = {"format": src.format, "frame": src.frame, "body": src.body}
+            out = {k: v for k, v in out.items() if v}
+            return out | (src.time_origin.metadata() if src.time_origin else {})
     fmt = format_of(path, format)
     out: dict[str, str] = {}
     if fmt == "csv":

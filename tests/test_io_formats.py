@@ -213,7 +213,7 @@ def test_several_files_one_per_sensor_merge_on_the_gyro_rows(tmp_path):
     folder = sim.sensor_logger(tmp_path / "exp", data)
     files = [folder / "Magnetometer.csv", folder / "Gyroscope.csv", folder / "TotalAcceleration.csv"]
     imu = ImuFile(files, optional=("acc", "mag"))
-    assert imu.format == "files" and imu.sparse == {"mag"}
+    assert imu.format == "files" and imu.sparse == {"mag"} and (imu.frame, imu.body) == ("ENU", "RFU")
     got = read_imu(files, optional=("acc", "mag"))
     # the accelerometer's samples are 1.2 ms after the gyro's: each lands on its own gyro row
     np.testing.assert_allclose(got.acc, data.acc, rtol=1e-15)

@@ -9,6 +9,7 @@ optional ``imu`` in front and an axis letter after, with a unit at the end or in
 
 from __future__ import annotations
 
+import itertools
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -152,7 +153,12 @@ def describe_fields(fields: Mapping[str, int]) -> str:
     >>> describe_fields({"t": 1, "imu_gyr": 3})
     't, imu_gyr (N, 3)'
     """
-    return ", ".join(f"{n} (N, {w})" if w > 1 else n for n, w in fields.items()) or "(none)"
+    shown = [f"{n} (N, {w})" if w > 1 else n for n, w in itertools.islice(fields.items(), _SHOWN)]
+    more = f" and {len(fields) - _SHOWN} more" if len(fields) > _SHOWN else ""  # a 100k-column header stays readable
+    return ", ".join(shown) + more if shown else "(none)"
+
+
+_SHOWN = 60
 
 
 def _missing(name: str, option: str, fields: Mapping[str, int]) -> ValueError:

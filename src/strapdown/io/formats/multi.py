@@ -331,7 +331,10 @@ def open_files(paths, format: str | None = None, time_unit: str | None = None, *
         if not p.is_file():
             raise FileNotFoundError(f"no such file: {p}")
     streams = open_streams(paths)
-    return merge_streams(paths[0], streams, "files", time_unit=time_unit)
+    src = merge_streams(paths[0], streams, "files", time_unit=time_unit)
+    if all(first_line(p.parent, p.name).startswith("time,seconds_elapsed,z,y,x") for p in paths):
+        src.frame, src.body = "ENU", "RFU"  # Sensor Logger's files given one by one: Android's axes
+    return src
 
 
 class Unzipped:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import assignment, estimators, parse_value
+from ._options import assignment, estimators, parse_params, parse_value
 
 
 @click.command()
@@ -47,7 +47,7 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
     from ..evaluate import evaluate as run_evaluate
     from ..evaluate import grid_search
 
-    fixed = dict(assignment(a, "--param") for a in params)
+    fixed = parse_params(estimator, params)
     ranges = {}
     for a in grid:
         name, value = assignment(a, "--grid", raw=True)

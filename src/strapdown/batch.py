@@ -537,7 +537,7 @@ def integrate_split(
         read = imu.describe()
         if n == 0:
             raise ValueError(f"{path}: no rows")
-        axes, meta = integrate_axes(imu, frame, body, out_body, rate_frame)
+        axes, meta = integrate_axes(imu, frame, body, out_body, rate_frame, out)
         meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **meta}
         turn = None if axes.matrix is None else tuple(axes.matrix.ravel().tolist())
         bounds = sorted(set(np.linspace(0, n, parts + 1).round().astype(int).tolist()))

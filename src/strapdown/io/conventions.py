@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Axes", "GapSplitter", "natural_body", "resolve_axes", "time_metadata"]
+__all__ = ["Axes", "GapSplitter", "natural_body", "output_metadata", "resolve_axes", "time_metadata"]
 
 #: The body axes whose level attitude is the identity in each reference frame (z down with z down, ...):
 #: aviation's NED/FRD, ROS REP 103's ENU/FLU (x forward; yaw 0 faces east), and NWU/FLU.
@@ -163,6 +163,42 @@ def time_metadata(imu, t_first: float) -> dict:
         meta.update(time_origin=value, time_origin_unit=unit, time_origin_kind=kind)
     else:
         meta.update(time_origin=repr(float(t_first)), time_origin_unit="s", time_origin_kind="file")
+    return meta
+
+
+def output_metadata(out, *, bias: bool = False, flags: bool = False) -> dict:
+    """The units of the output's columns: ``angle_unit``, ``euler`` and, for an estimator, ``bias_unit``, ``flags``.
+
+    Parameters
+    ----------
+    out : OutputSpec
+        What is written.
+    bias, flags : bool
+        The estimator has a bias, flags.
+
+    Returns
+    -------
+    dict of str to str
+        Metadata items.
+
+    Examples
+    --------
+    >>> from strapdown.io.conventions import output_metadata
+    >>> from strapdown.io.tables import OutputSpec
+    >>> output_metadata(OutputSpec())
+    {'angle_unit': 'deg', 'euler': 'ZYX (yaw_deg, pitch_deg, roll_deg), outer angle positive'}
+    """
+    from .tables import column_names, flag_bits
+
+    angles = out.angles
+    meta = {"angle_unit": "deg" if angles.degrees else "rad"}
+    if out.euler:
+        meta["euler"] = f"{angles.seq} ({', '.join(column_names('euler', angles))}), outer angle {angles.range}"
+    if bias and out.bias:
+        meta["bias_unit"] = "deg/s" if angles.degrees else "rad/s"
+    if flags and out.flags:
+        bits = ", ".join(f"{name}={bit}" for name, bit in flag_bits().items())
+        meta["flags"] = f"bit mask ({bits}); the same as boolean columns"
     return meta
 
 

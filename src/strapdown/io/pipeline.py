@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..integrate import AttitudeIntegrator
-from .conventions import GapSplitter, resolve_axes, time_metadata
+from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source, require_rows
 from .tables import (
@@ -301,7 +301,7 @@ def integrate_file(
     if on_gap != "error":
         columns = replace(columns, max_gap=0)
     with ImuFile(path, columns, require=("gyro",), increments=input == "increment") as imu:
-        axes, frames = integrate_axes(imu, frame, body, out_body, rate_frame)
+        axes, frames = integrate_axes(imu, frame, body, out_body, rate_frame, out)
         meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **frames}
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
         with run:
@@ -318,14 +318,14 @@ def integrate_file(
         return report
 
 
-def integrate_axes(imu, frame, body, out_body, rate_frame: str):
+def integrate_axes(imu, frame, body, out_body, rate_frame: str, out: OutputSpec):
     """The axes of an integration, and their metadata: without a frame the reference is the body at t = 0."""
     if frame is None and out_body is None:
         out_body = body or getattr(imu, "body", None)  # no frame to go with: the readings' own axes
     axes = resolve_axes(imu, frame, body, out_body)
     if axes.matrix is not None and rate_frame != "body":
         raise ValueError("--body turns body rates; rates in the reference frame (--rate-frame reference) cannot be")
-    meta = axes.metadata()
+    meta = {**axes.metadata(), **output_metadata(out)}
     if frame is None:
         meta["frame"] = "inertial (the body axes at t = 0, turned by q0)"
     return axes, meta
@@ -482,6 +482,7 @@ def estimate_file(
         use_mag = "mag" in imu.picks
         meta = _metadata("estimate", estimator=estimator, mode="9D" if use_mag else "6D")
         meta.update(axes.metadata())
+        meta.update(output_metadata(out, bias=cls.estimates_bias, flags=cls.reports_flags))
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
         est = None
         warned = False

@@ -434,3 +434,35 @@ def list_params(estimator: str) -> str:
         shown = f"{value:.6g}" if isinstance(value, float) else str(value)
         lines.append(f"  {f.name:24} {shown:>14} {unit:10}{deg}")
     return "\n".join(lines)
+
+
+def writable_folder(folder, option: str) -> None:
+    """Refuse a folder that cannot be written before anything is computed (created when missing)."""
+    import os
+    from pathlib import Path
+
+    import click
+
+    path = Path(folder)
+    probe = path
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise click.BadParameter(f"cannot write into {path} ({probe} is not a writable folder)", param_hint=option)
+
+
+def writable_file(file, option: str) -> None:
+    """Refuse an output file that cannot be written (its folder, or the file itself, read-only) before computing."""
+    import os
+    from pathlib import Path
+
+    import click
+
+    path = Path(file)
+    if path.exists() and not os.access(path, os.W_OK):
+        raise click.BadParameter(f"cannot write {path}: it is read-only", param_hint=option)
+    writable_folder(path.parent if str(path.parent) else ".", option)
+
+
+#: Rows a simulation may write at most: 10^8 rows of 17 columns are about 14 GB in memory.
+MAX_SIMULATED_ROWS = 100_000_000

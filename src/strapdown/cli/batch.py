@@ -122,7 +122,8 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
         if failed:
             raise click.ClickException(f"{failed} of {len(files)} files failed")
         return
-    jobs = [Job(command, str(f), str(o), kwargs) for f, o in zip(files, outputs, strict=True)]
+    # absolute paths: a Dask worker runs in its own working folder, where relative ones name nothing
+    jobs = [Job(command, str(f.absolute()), str(o.absolute()), kwargs) for f, o in zip(files, outputs, strict=True)]
     bar = Progress(quiet, unit="files")
     done = [0]
 

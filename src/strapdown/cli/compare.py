@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import flight_options
+from ._options import flight_options, writable_folder
 
 
 @click.command()
@@ -28,6 +28,8 @@ def command(scenario, rate, gyro, imu, seed, methods, out):
 
     if not rate > 0:
         raise click.BadParameter("must be positive", param_hint="--rate")
+    if out:
+        writable_folder(out, "--out")  # before the computation, not after it
     chosen = None
     if methods:
         chosen = [m.strip() for m in methods.split(",") if m.strip()]

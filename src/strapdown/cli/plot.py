@@ -14,7 +14,13 @@ from ._options import input_argument
 @click.option("--euler", "seq", default="ZYX", show_default=True, help="Euler sequence of the angle figure.")
 @click.option("--radians", is_flag=True)
 @click.option("--yaw-range", type=click.Choice(["signed", "positive"]))
-@click.option("--max-points", default=200_000, show_default=True, help="Rows drawn at most (thinned evenly).")
+@click.option(
+    "--max-points",
+    default=200_000,
+    show_default=True,
+    type=click.IntRange(min=2),
+    help="Rows drawn at most (thinned evenly).",
+)
 def command(path, truth, out, seq, radians, yaw_range, max_points):
     """Write PNG figures of an attitude file: Euler angles, errors against --truth, and the gyro bias.
 

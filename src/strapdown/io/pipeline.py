@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..integrate import AttitudeIntegrator
+from ..integrate import AttitudeIntegrator, SingularityError
 from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source, require_rows
@@ -309,8 +309,11 @@ def integrate_file(
             for seg, group in itertools.groupby(pieces, key=lambda piece: piece[0]):
                 turned = (_turned(chunk, axes) for _, chunk in group)
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
-                for t, q in integrate_stream(turned, **opts):
-                    run.write(seg, attitude_columns(t - run.t_first, q, out))
+                try:
+                    for t, q in integrate_stream(turned, **opts):
+                        run.write(seg, attitude_columns(t - run.t_first, q, out))
+                except (ValueError, SingularityError) as exc:  # the integrator's words name no file
+                    raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(Path(path), run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(axes.describe())
         report.notes.extend(run.notes)
@@ -495,7 +498,18 @@ def estimate_file(
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
                 extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
                 mag_in = axes.rotate(chunk.mag) if use_mag else None
-                e = est.update(axes.rotate(chunk.gyro), axes.rotate(chunk.acc), mag_in, **timing, **extra)
+                try:
+                    e = est.update(axes.rotate(chunk.gyro), axes.rotate(chunk.acc), mag_in, **timing, **extra)
+                except ValueError as exc:  # the estimator's own words name its arrays, not the file
+                    raise ValueError(f"{path}: {estimator} failed on {_rows(imu, chunk)}: {exc}") from None
+                lost = np.flatnonzero(~np.isfinite(e.q).all(axis=1))
+                if lost.size:
+                    i = int(lost[0])
+                    raise ValueError(
+                        f"{path}: the {estimator} estimator lost the attitude at {imu.where(chunk.row + i)} (gyro "
+                        f"{_triad(chunk.gyro[i])} rad/s, acc {_triad(chunk.acc, i)} m/s²): readings that large are "
+                        "not plausible; check that row and the units"
+                    )
                 at_limit = None
                 if limit and e.bias is not None:
                     # the estimators clip each axis at bias_limit: a bias there says the limit, not the gyro
@@ -536,6 +550,7 @@ class _Segments:
         self.notes: list[str] = []
         self.rows = 0
         self.segment_of_estimator = -1
+        self.current = None  # the chunk in flight, for messages
         self._stack = ExitStack()
 
     def __enter__(self):
@@ -572,7 +587,8 @@ class _Segments:
             start = 0
             for i in [*cuts, len(chunk)]:
                 if i > start:
-                    yield seg, _slice(chunk, start, i)
+                    self.current = _slice(chunk, start, i)
+                    yield seg, self.current
                 if i < len(chunk):
                     seg += 1
                 start = i
@@ -595,6 +611,21 @@ class _Segments:
         w = self._writer(seg)
         w.write(columns)
         self.rows += len(columns["t"])
+
+
+def _triad(v, i=None) -> str:
+    if v is None:
+        return "none"
+    v = v if i is None else v[i]
+    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+
+
+def _rows(imu, chunk) -> str:
+    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file)."""
+    if chunk is None:
+        return "its first rows"
+    first, last = imu.where(chunk.row), imu.where(chunk.row + len(chunk) - 1)
+    return f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the readings there are not plausible)"
 
 
 def _slice(chunk, a: int, b: int):
@@ -676,12 +707,37 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
     array([[0.707107, 0.      , 0.      , 0.707107],
            [     nan,      nan,      nan,      nan]])
     """
-    ok = np.isfinite(values).all(axis=1)
+    values = np.asarray(values, dtype=np.float64)
+    unknown = np.isnan(values).any(axis=1)
+    infinite = np.flatnonzero(~unknown & ~np.isfinite(values).all(axis=1))
+    if infinite.size:
+        raise RowError(int(infinite[0]), "an infinite value (a NaN row is an unknown attitude; inf is not)")
+    ok = ~unknown
+    if source == "quat":
+        zero = np.flatnonzero(ok & ~(np.abs(values) > 0).any(axis=1))
+        if zero.size:
+            raise RowError(int(zero[0]), "a zero quaternion, which is no attitude")
+    if source in _ANGULAR:
+        # beyond about 1e9 turns' worth the angle has no digits left below a turn: no attitude can be read from it
+        limit = 360.0 * 1e9 if angles_in.degrees else 2 * np.pi * 1e9
+        angular = values[:, -1:] if source == "axis_angle" else values
+        big = np.flatnonzero(ok & (np.abs(angular) > limit).any(axis=1))
+        if big.size:
+            unit = "deg" if angles_in.degrees else "rad"
+            raise RowError(int(big[0]), f"an angle beyond ±{limit:.3g} {unit}: no digits are left below a turn")
     out = np.full((values.shape[0], REPRESENTATIONS[target]), np.nan)
     if ok.any():
         q = from_values(source, values[ok], angles_in)
         out[ok] = to_values(target, q, angles_out)
     return out
+
+
+class RowError(ValueError):
+    """A bad input row: ``row`` (0-based within the array) and what is wrong with it, for the caller to place."""
+
+    def __init__(self, row: int, problem: str):
+        super().__init__(f"row {row} holds {problem}")
+        self.row, self.problem = row, problem
 
 
 def convert_file(
@@ -768,9 +824,14 @@ def convert_file(
         done = 0
         meta = _metadata("convert", source=source, target=target)
         with table_writer(output, out_format, meta) as w:
-            for _, cols in src.chunks(wanted, chunk_rows):
+            for row, cols in src.chunks(wanted, chunk_rows):
                 values = cols[fields[0]] if len(fields) == 1 else np.column_stack([cols[f] for f in fields])
-                converted = convert_values(values, source, target, angles_in, angles_out)
+                try:
+                    converted = convert_values(values, source, target, angles_in, angles_out)
+                except RowError as exc:
+                    raise ValueError(
+                        f"{path}: {src.where(row + exc.row)} ({', '.join(fields)}) holds {exc.problem}"
+                    ) from None
                 table = {tname: cols[tname]} if tname else {}
                 table.update(zip(names_out, converted.T, strict=True))
                 w.write(table)

@@ -173,6 +173,21 @@ def test_sensor_logger_without_gravity_is_refused_as_linear_acceleration(tmp_pat
         read_imu(folder, optional=("acc",))
 
 
+def test_sensor_logger_ios_style_acceleration_plus_gravity_is_the_specific_force(tmp_path):
+    data = sim.phone_at_rest(duration=6.0)
+    folder = sim.sensor_logger(tmp_path / "ios", data, total=False, gravity_file=True)
+    imu = ImuFile(folder, optional=("acc",))
+    assert imu.picks["acc"].fields[0] == "Accelerometer.csv/x+Gravity.csv"
+    np.testing.assert_allclose(read_imu(folder, optional=("acc",)).acc, data.acc, atol=1e-12)
+
+
+def test_phyphox_start_time_gives_the_epoch_origin(tmp_path):
+    folder = sim.phyphox(tmp_path / "p", sim.phone_at_rest(duration=2.0), start_epoch=1718030736.5)
+    origin = ImuFile(folder).time_origin
+    assert origin.kind == "epoch" and origin.unit == "s" and origin.value == pytest.approx(1718030736.5)
+    assert origin.iso.startswith("2024-06-10T14:45:36.5")
+
+
 @pytest.mark.parametrize("semicolon", [False, True])
 def test_phyphox_export_lying_flat(tmp_path, semicolon):
     data = sim.phone_at_rest(duration=10.0)

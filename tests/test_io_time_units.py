@@ -163,6 +163,19 @@ def test_a_zip_member_cannot_escape_the_temporary_folder(tmp_path):
     assert not out.folder.exists()
 
 
+def test_a_zip_that_would_expand_past_the_cap_is_refused(tmp_path, monkeypatch):
+    import zipfile
+
+    from strapdown.io.formats import multi
+
+    path = tmp_path / "big.zip"
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as z:
+        z.writestr("Gyroscope.csv", "time,seconds_elapsed,z,y,x\n" + "0" * 3_000_000)
+    monkeypatch.setattr(multi, "MAX_UNZIPPED_BYTES", 1 << 20)
+    with pytest.raises(ValueError, match=r"big.zip: its files would expand to 2.9 MiB, past the 1 MiB read from a zip"):
+        open_source(path)
+
+
 def test_a_new_format_is_one_registration(tmp_path):
     from strapdown.io.registry import Format, formats, register
     from strapdown.io.source import MemorySource

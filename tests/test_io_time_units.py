@@ -193,3 +193,23 @@ def test_a_new_format_is_one_registration(tmp_path):
         assert read_imu(path).gyro[:, 2].tolist() == [1.0, 1.0, 1.0]
     finally:
         formats().pop("demo")
+
+
+def test_a_gyro_in_deg_s_read_as_rad_s_at_rest_is_refused(tmp_path):
+    # the accelerometer says gravity stays put; a 0.5 deg/s bias read as rad/s says the body tilts at 29 deg/s
+    import sim_exports as sim
+    from strapdown.io import write_table
+
+    data = sim.phone_at_rest(duration=5.0)
+    deg = np.degrees(data.gyro) + np.array([0.5, -0.4, 0.3])  # consumer bias plus this: about 1 deg/s
+    cols = {"t": data.t[:-1], "gx": deg[:, 0], "gy": deg[:, 1], "gz": deg[:, 2]}
+    cols |= {"ax": data.acc[:, 0], "ay": data.acc[:, 1], "az": data.acc[:, 2]}
+    path = write_table(tmp_path / "deg.csv", cols)
+    with pytest.raises(
+        ValueError, match=r"turns the body at \d\.\d+ rad/s .* look like deg/s.*columns gx,gy,gz and ax"
+    ):
+        ImuFile(path, optional=("acc",))
+    assert ImuFile(path, ImuColumns(gyro_unit="deg/s"), optional=("acc",)).units["gyro"] == "deg/s"
+    # a turntable: 1 rad/s about the vertical with gravity steady in the body is no contradiction
+    cols["gx"], cols["gy"], cols["gz"] = np.zeros(len(deg)), np.zeros(len(deg)), np.ones(len(deg))
+    assert ImuFile(write_table(tmp_path / "turn.csv", cols), optional=("acc",)).units["gyro"] == "rad/s"

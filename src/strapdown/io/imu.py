@@ -336,7 +336,7 @@ class ImuFile:
         return "; ".join(parts)
 
     def _head(self, relative=()) -> dict:
-        """The first 4096 rows of the time, accelerometer and magnetometer fields, read once.
+        """The first 4096 rows of the time, gyro, accelerometer and magnetometer fields, read once.
 
         One pass serves both the time-unit inference and the checks of :meth:`_probe`.
         """
@@ -373,7 +373,7 @@ class ImuFile:
         if not self.increments and self.period:
             gyro = _assemble(cols, self.picks["gyro"]) * scale("gyro", self.units["gyro"])
             both = np.isfinite(acc).all(axis=1) & np.isfinite(gyro).all(axis=1)
-            problem = check_gyro_at_rest(gyro[both], acc[both], both.sum() * self.period, self.units["gyro"])
+            problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * self.period, self.units["gyro"])
             if problem:
                 raise ValueError(
                     f"{self.path}: {problem} (columns {self.picks['gyro'].label} and {self.picks['acc'].label})"

@@ -92,6 +92,17 @@ def test_a_normalised_magnetometer_is_read_and_reported_as_normalised(tmp_path):
     np.testing.assert_array_equal(read_imu(path, optional=("mag",)).mag, m)
 
 
+def test_blank_lines_comments_and_a_unit_row_keep_the_line_numbers(tmp_path):
+    path = tmp_path / "b.csv"
+    text = "\n# frame: NED\n\nt,gx,gy,gz\n\nms,deg/s,deg/s,deg/s\n0,0,0,90\n10,0,0,90\n"
+    path.write_text(text)
+    imu = ImuFile(path)
+    assert imu.units == {"gyro": "deg/s", "time": "ms"} and read_metadata(path) == {"frame": "NED"}
+    path.write_text(text + "20,0,0,x\n")
+    with pytest.raises(ValueError, match=r"line 9, column 'gz': 'x' is not a number"):
+        read_imu(path)
+
+
 def test_csv_comment_lines_are_metadata_and_a_hash_header_is_a_header(tmp_path):
     path = tmp_path / "m.csv"
     path.write_text("# frame: NED\n# body: FRD\n# time_origin: 20309082\nt,qw,qx,qy,qz\n0.5,1,0,0,0\n0.6,1,0,0,0\n")

@@ -269,8 +269,10 @@ class ImuFile:
         if self.time is not None:
             # a decoded log's t is seconds already: a --time-unit was the reader's, for the files' own columns
             declared = "s" if self.source.time_in_seconds else self.spec.time_unit
-            self.units["time"] = parse_unit("time", declared) if declared else (self.time.unit_hint or "s")
-            self._resolve_time_unit(declared is not None or self.time.unit_hint is not None)
+            stated = self.source.units.get(self.time.fields[0])  # a unit row
+            hint = self.time.unit_hint or (parse_unit("time", stated, strict=False) if stated else None)
+            self.units["time"] = parse_unit("time", declared) if declared else (hint or "s")
+            self._resolve_time_unit(declared is not None or hint is not None)
 
     def _resolve_time_unit(self, stated: bool) -> None:
         """Infer an integer column's unit from its steps, check the period, and find what t = 0 is."""

@@ -167,6 +167,15 @@ def test_sensor_logger_export_folder_or_zip_lying_flat(tmp_path, as_zip):
     assert pitch < 2.0 and roll < 2.0
 
 
+def test_one_sensor_logger_file_alone_is_read_as_its_sensor(tmp_path):
+    data = sim.phone_at_rest(duration=3.0)
+    gyro = sim.sensor_logger(tmp_path / "e", data) / "Gyroscope.csv"
+    imu = ImuFile(gyro)
+    assert imu.picks["gyro"].fields == ("x", "y", "z") and imu.units["time"] == "ns"
+    assert (imu.frame, imu.body) == ("ENU", "RFU")
+    np.testing.assert_allclose(read_imu(gyro).gyro, data.gyro, rtol=1e-15)
+
+
 def test_sensor_logger_without_gravity_is_refused_as_linear_acceleration(tmp_path):
     folder = sim.sensor_logger(tmp_path / "ios", sim.phone_at_rest(duration=5.0), total=False)
     with pytest.raises(ValueError, match="gravity-free 'linear acceleration' stream"):

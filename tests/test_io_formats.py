@@ -79,6 +79,7 @@ def test_px4_vehicle_at_rest_shows_the_tilt_its_own_estimator_logged(log):
     data = read_imu(log, options(log), optional=("acc",))
     ref = read_reference(log)
     assert (ref.frame, ref.body) == ("NED", "FRD")
+    assert ref.time_origin == ImuFile(log, options(log)).time_origin  # one time line for IMU and reference
     est = AttitudeEstimator(frame="NED").update(data.gyro, data.acc, t=data.t)
     keep = (ref.t > 2.0) & (ref.t <= data.t[-1])  # after the estimators' start-up
     rows = np.searchsorted(data.t, ref.t[keep])

@@ -1,0 +1,26 @@
+"""Sensor calibration and true north: fits from recordings, Allan analysis, magnetic declination.
+
+* :func:`magnetometer`: hard and soft iron from a recording that turns the sensor (robust ellipsoid fit);
+* :func:`accelerometer`: offsets, scale factors and cross-axis coupling from static poses;
+* :func:`gyroscope`: bias from rests, scale and cross-axis coupling from a reference rate or attitude;
+* :func:`allan`: angle random walk, bias instability and rate random walk read off the Allan curve;
+* :func:`find_rests`: the still intervals of a recording;
+* :func:`declination` and :func:`field`: the Earth's field from position and date (World Magnetic Model,
+  the ``geomag`` extra), and :func:`to_true_north` to turn a magnetic heading into a true one.
+
+Each fit returns a :class:`Calibration` (``calibrated = matrix @ (reading - offset)``) with its uncertainty and
+quality figures, saved and loaded as JSON (:func:`save`, :func:`load`).  A fit refuses input that cannot
+determine it (:class:`InsufficientMotionError`, a ``ValueError``) and says which motion is missing.
+"""
+
+from ._calibration import SENSORS, Calibration, load, save
+from .magnetometer import InsufficientMotionError, magnetometer
+
+__all__ = [
+    "SENSORS",
+    "Calibration",
+    "InsufficientMotionError",
+    "load",
+    "magnetometer",
+    "save",
+]

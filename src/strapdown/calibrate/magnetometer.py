@@ -1,0 +1,210 @@
+"""Hard- and soft-iron calibration of a magnetometer from a recording that turns the sensor.
+
+A magnetometer near iron reads ``m = A h + b``: the hard iron b (µT) adds a field that turns with the sensor,
+the soft iron, scale factors and cross-axis coupling form A.  Turned through all directions in a constant
+field h, the readings lie on an ellipsoid; the fit (:mod:`strapdown.calibrate._ellipsoid`: algebraic start,
+maximum-likelihood Levenberg-Marquardt refinement, Huber reweighting) finds b and the symmetric
+positive-definite W with ``|W (m - b)|`` constant.  A rotation of the sensor axes after W cannot be seen in
+the field alone (it is the sensor's mounting, found with the accelerometer or the estimator), so W is the
+symmetric form ``(A Aᵀ)^(-1/2)`` (times a scale, below).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _validate as _v
+from . import _ellipsoid as _e
+from ._calibration import Calibration
+
+__all__ = ["InsufficientMotionError", "magnetometer"]
+
+_MIN_SAMPLES = 30
+_MIN_THICKNESS = 0.1  # smallest/largest principal spread of the raw readings: below, they lie in a plane
+_MIN_SPREAD = 0.1  # smallest direction-scatter eigenvalue (x3, 1 = even) after the fit
+_MAX_SOFT_IRON_CONDITION = 5.0
+
+
+class InsufficientMotionError(ValueError):
+    """The recording did not move the sensor enough for the fit; the message says which motion is missing."""
+
+
+def _rows(x, name: str) -> np.ndarray:
+    """Finite (n, 3) float64 rows of x; NaN rows mean no sample and are dropped."""
+    arr = _v.as_float_array(x, name, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{name} must have shape (N, 3) (one 3-vector per sample), got shape {arr.shape}")
+    present = ~np.isnan(arr).any(axis=1)
+    arr = arr[present]
+    _v.check_finite(arr, name)
+    return arr
+
+
+def _check_raw_motion(m: np.ndarray, name: str) -> None:
+    """Refuse readings that did not turn, or turned about one axis only (they then lie in a plane)."""
+    values, vectors = np.linalg.eigh(np.cov(m.T, bias=True))
+    width = np.sqrt(max(values[2], 0.0))
+    size = np.median(np.linalg.norm(m - np.median(m, axis=0), axis=1)) + np.mean(np.linalg.norm(m, axis=1))
+    if width < 0.02 * size:
+        raise InsufficientMotionError(
+            f"{name} hardly changes (spread {width:.3g} around readings of {np.mean(np.linalg.norm(m, axis=1)):.3g}):"
+            " the sensor was not turned; turn it through all directions (each axis pointing up, down and"
+            " around, e.g. a slow figure-eight while rolling it over)"
+        )
+    thickness = np.sqrt(max(values[0], 0.0)) / width
+    if thickness < _MIN_THICKNESS:
+        raise InsufficientMotionError(
+            f"{name} lies close to a plane (thickness {thickness:.3f} of its width): the sensor turned about one"
+            f" axis only, near sensor axis {_e.axis_name(vectors[:, 0])}; also turn it about the other two axes"
+            " (tilt it up and down and roll it over) so that the field points in every direction"
+        )
+
+
+def _normalise(fit: _e.EllipsoidFit) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+    """Scale W to determinant 1 (the sensor's mean gain is kept), with the covariance of (b, w6, F)."""
+    w = fit.matrix
+    c = np.linalg.det(w) ** (-1.0 / 3.0)
+    w6 = _e.unsym(w)
+    inv = np.linalg.inv(w)
+    dlogdet = np.einsum("ij,pji->p", inv, _e._BASIS)  # ∂ ln det W / ∂w_p = tr(W⁻¹ E_p)
+    dc = -c / 3.0 * dlogdet
+    jac = np.zeros((10, 9))
+    jac[:3, :3] = np.eye(3)
+    jac[3:9, 3:] = c * np.eye(6) + np.outer(w6, dc)
+    jac[9, 3:] = fit.radius * dc
+    cov = jac @ fit.covariance @ jac.T
+    return c * w, fit.offset, c * fit.radius, cov
+
+
+def magnetometer(
+    m,
+    *,
+    field_strength: float | None = None,
+    frame: str = "sensor",
+    robust: bool = True,
+    noise: float | None = None,
+) -> Calibration:
+    """Fit hard and soft iron to magnetometer readings taken while the sensor turns in a steady field.
+
+    Parameters
+    ----------
+    m : array_like, shape (N, 3)
+        Readings, µT, in the sensor axes ``frame``; NaN rows (no sample) are skipped.  The sensor must turn
+        through many directions (all axes up and down); a few per cent of outliers are tolerated.
+    field_strength : float, optional
+        The local field strength (µT), e.g. from :func:`strapdown.calibrate.field`.  Given, the calibrated
+        field has this magnitude; otherwise the matrix has determinant 1 (the sensor's mean gain is kept) and
+        the magnitude is fitted (``quality["field_strength"]``).
+    frame : str
+        Name of the sensor axes, stored with the calibration.
+    robust : bool
+        Down-weight outliers (Huber); False gives the plain maximum-likelihood fit.
+    noise : float, optional
+        Known noise per axis and sample (µT); by default estimated from the residuals.
+
+    Returns
+    -------
+    Calibration
+        ``calibrated = matrix @ (m - offset)`` with the hard iron as offset and the symmetric soft-iron
+        correction as matrix, their one-sigma uncertainties (``offset_sigma``, ``matrix_sigma``; first-order
+        Cramér-Rao level for Gaussian noise), and ``quality``:
+
+        * ``field_strength``, ``field_strength_sigma``: magnitude of the calibrated field (µT);
+        * ``residual_rms``: rms distance of the readings from the fitted ellipsoid (µT), about the noise;
+        * ``noise``: the noise per axis used for the uncertainties (µT);
+        * ``coverage``: fraction of the sphere of directions seen (within 20° of a sample; 1 = all);
+        * ``direction_spread``: eigenvalues of the scatter of the calibrated directions, times 3
+          (1, 1, 1 for directions spread evenly; a value near 0 means a direction never tilted);
+        * ``condition``: condition number of the scaled information matrix (large: poorly determined);
+        * ``soft_iron_condition``: condition number of the matrix; ``outliers``: fraction of down-weighted
+          samples (Huber weight < 0.5); ``samples``, ``iterations``.
+
+    Raises
+    ------
+    InsufficientMotionError
+        When the sensor did not turn, or turned about one axis only, or the field directions stayed in a
+        narrow cone: the message names the axis and the motion that is missing.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.calibrate import magnetometer
+    >>> rng = np.random.default_rng(1)
+    >>> h = rng.standard_normal((2000, 3))
+    >>> h *= 48.0 / np.linalg.norm(h, axis=1, keepdims=True)             # a 48 µT field in all directions
+    >>> soft = np.array([[1.1, 0.05, 0.0], [0.05, 0.9, 0.02], [0.0, 0.02, 1.0]])
+    >>> m = h @ soft.T + [20.0, -35.0, 8.0] + 0.2 * rng.standard_normal((2000, 3))
+    >>> cal = magnetometer(m, field_strength=48.0)
+    >>> cal.offset.round(1)
+    array([ 20. , -35. ,   8. ])
+    >>> bool(np.std(np.linalg.norm(cal.apply(m), axis=1)) < 0.3)     # the norm is constant within the noise
+    True
+    """
+    r = _rows(m, "m")
+    if len(r) < _MIN_SAMPLES:
+        raise ValueError(f"m has {len(r)} readings; the magnetometer fit needs at least {_MIN_SAMPLES}")
+    if field_strength is not None:
+        field_strength = float(_v.finite(field_strength, "field_strength", dtype=np.float64))
+        if not field_strength > 0:
+            raise ValueError(f"field_strength is {field_strength}; it must be positive (µT)")
+    if noise is not None and not float(noise) > 0:
+        raise ValueError(f"noise is {noise}; it must be positive (µT)")
+    _check_raw_motion(r, "m")
+
+    start = _e.algebraic(r)
+    if start is None:  # not an ellipsoid: start from a sphere about the mean
+        centre = r.mean(axis=0)
+        start = centre, np.eye(3) / np.mean(np.linalg.norm(r - centre, axis=1))
+    radius = 1.0 if field_strength is None else field_strength
+    b0, w0 = start
+    fit = _e.refine(r, b0, w0 * radius, radius, robust=robust, noise=noise)
+
+    if field_strength is None:
+        matrix, offset, strength, cov = _normalise(fit)
+        strength_sigma = float(np.sqrt(cov[9, 9]))
+    else:
+        matrix, offset, strength, cov = fit.matrix, fit.offset, field_strength, fit.covariance
+        strength_sigma = 0.0
+    calibrated = (r - offset) @ matrix.T
+    spread, axes = _e.direction_spread(calibrated)
+    if spread[0] < _MIN_SPREAD:
+        raise InsufficientMotionError(
+            f"the field was seen only in a narrow cone of directions around sensor axis {_e.axis_name(axes[:, 0])}"
+            f" (direction spread {spread[0]:.3f}, 1 = even): turn the sensor also about axes across that one"
+            " (tilt it so that this axis points up, down and sideways)"
+        )
+    soft_condition = float(np.linalg.cond(matrix))
+    if soft_condition > _MAX_SOFT_IRON_CONDITION:
+        raise InsufficientMotionError(
+            f"the fitted soft iron has condition number {soft_condition:.1f} (> {_MAX_SOFT_IRON_CONDITION}), which no"
+            " real sensor has: the readings do not trace an ellipsoid; turn the sensor slowly through all directions"
+            " away from iron and magnets"
+        )
+    sigmas = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    matrix_sigma = np.zeros((3, 3))
+    for p, (i, j) in enumerate(_e._SYM):
+        matrix_sigma[i, j] = matrix_sigma[j, i] = sigmas[3 + p]
+    quality = {
+        "field_strength": float(strength),
+        "field_strength_sigma": strength_sigma,
+        "residual_rms": float(np.sqrt(np.mean(fit.residual[fit.weights > 0.5] ** 2))),
+        "noise": fit.sigma,
+        "coverage": _e.sphere_coverage(calibrated),
+        "direction_spread": spread.tolist(),
+        "condition": fit.information_condition,
+        "soft_iron_condition": soft_condition,
+        "outliers": float(np.mean(fit.weights < 0.5)),
+        "samples": len(r),
+        "iterations": fit.iterations,
+    }
+    return Calibration(
+        "magnetometer",
+        offset=offset,
+        matrix=matrix,
+        frame=frame,
+        offset_sigma=sigmas[:3],
+        matrix_sigma=matrix_sigma,
+        quality=quality,
+        method="ellipsoid: algebraic start, maximum-likelihood Levenberg-Marquardt"
+        + (", Huber-robust" if robust else ""),
+    )

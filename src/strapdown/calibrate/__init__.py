@@ -14,13 +14,29 @@ determine it (:class:`InsufficientMotionError`, a ``ValueError``) and says which
 """
 
 from ._calibration import SENSORS, Calibration, load, save
+from .accelerometer import GRAVITY, accelerometer
+from .allan import AllanAnalysis, allan
+from .declination import GeomagneticField, declination, field, to_true_north
+from .gyroscope import gyroscope, rates_from_attitude
 from .magnetometer import InsufficientMotionError, magnetometer
+from .rests import find_rests
 
 __all__ = [
+    "GRAVITY",
     "SENSORS",
+    "AllanAnalysis",
     "Calibration",
+    "GeomagneticField",
     "InsufficientMotionError",
+    "accelerometer",
+    "allan",
+    "declination",
+    "field",
+    "find_rests",
+    "gyroscope",
     "load",
     "magnetometer",
+    "rates_from_attitude",
     "save",
+    "to_true_north",
 ]

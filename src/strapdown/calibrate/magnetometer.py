@@ -136,7 +136,7 @@ def magnetometer(
     >>> m = h @ soft.T + [20.0, -35.0, 8.0] + 0.2 * rng.standard_normal((2000, 3))
     >>> cal = magnetometer(m, field_strength=48.0)
     >>> cal.offset.round(1)
-    array([ 20. , -35. ,   8. ])
+    array([ 20., -35.,   8.])
     >>> bool(np.std(np.linalg.norm(cal.apply(m), axis=1)) < 0.3)     # the norm is constant within the noise
     True
     """

@@ -13,13 +13,13 @@ quality figures, saved and loaded as JSON (:func:`save`, :func:`load`).  A fit r
 determine it (:class:`InsufficientMotionError`, a ``ValueError``) and says which motion is missing.
 """
 
+from ._accelerometer import GRAVITY, accelerometer
+from ._allan import AllanAnalysis, allan
 from ._calibration import SENSORS, Calibration, load, save
-from .accelerometer import GRAVITY, accelerometer
-from .allan import AllanAnalysis, allan
-from .declination import GeomagneticField, declination, field, to_true_north
-from .gyroscope import gyroscope, rates_from_attitude
-from .magnetometer import InsufficientMotionError, magnetometer
-from .rests import find_rests
+from ._declination import GeomagneticField, declination, field, to_true_north
+from ._gyroscope import gyroscope, rates_from_attitude
+from ._magnetometer import InsufficientMotionError, magnetometer
+from ._rests import find_rests
 
 __all__ = [
     "GRAVITY",

@@ -117,7 +117,9 @@ def field(*, latitude, longitude, date, altitude=0.0, degrees: bool = False) -> 
     lat = _v.finite(latitude, "latitude")
     lon = _v.finite(longitude, "longitude")
     alt = _v.finite(altitude, "altitude")
-    dtype = _v.result_dtype(lat, lon, alt)
+    # Python numbers do not decide the result's precision (the library's rule): the arrays among the inputs do
+    arrays = [a for a, raw in ((lat, latitude), (lon, longitude), (alt, altitude)) if not isinstance(raw, (int, float))]
+    dtype = _v.result_dtype(*arrays) if arrays else np.dtype(np.float64)
     lat, lon, alt = np.broadcast_arrays(lat, lon, alt)
     lat_deg = lat.astype(np.float64) if degrees else np.degrees(lat.astype(np.float64))
     lon_deg = lon.astype(np.float64) if degrees else np.degrees(lon.astype(np.float64))

@@ -26,8 +26,8 @@ from .. import _validate as _v
 from . import _ellipsoid as _e
 from . import _linear
 from ._calibration import Calibration
-from .magnetometer import InsufficientMotionError, _rows
-from .rests import find_rests
+from ._magnetometer import InsufficientMotionError, _rows
+from ._rests import find_rests
 
 __all__ = ["GRAVITY", "accelerometer"]
 

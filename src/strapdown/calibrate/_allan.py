@@ -191,17 +191,16 @@ def _chi2_quantile(p_z: float, nu: np.ndarray) -> np.ndarray:
 def _interval(value2, sigma2, unconstrained2):
     """A 95 % interval on a square root from an estimate of the square and its standard error.
 
-    The square is treated as a scaled χ² with ν = 2 (value/σ)² degrees of freedom (Satterthwaite 1946), so the
-    interval is asymmetric where few clusters tell the term (the rate random walk at the longest τ); for many
-    degrees of freedom it is ±1.96 σ.  A term fitted to zero gets [0, √(u + 1.96 σ)], u the unconstrained estimate.
+    A term seen at more than 1.96 σ is treated as a scaled χ² with ν = 2 (value/σ)² > 7.7 degrees of freedom
+    (Satterthwaite 1946), so the interval is asymmetric where few clusters tell it (the rate random walk at
+    the longest τ) and ±1.96 σ for many.  A term not seen that clearly reaches down to 0:
+    [0, √(max(value, u) + 1.96 σ)], u the unconstrained least-squares estimate.
     """
-    nu = 2.0 * (value2 / np.maximum(sigma2, 1e-300)) ** 2
-    seen = value2 > 0
-    nu_s = np.where(seen, np.maximum(nu, 0.1), 1.0)
-    lo = np.where(seen, nu_s * value2 / np.maximum(_chi2_quantile(_Z95, nu_s), 1e-300), 0.0)
-    upper_q = _chi2_quantile(-_Z95, nu_s)
-    hi = np.where(seen & (upper_q > 0), nu_s * value2 / np.maximum(upper_q, 1e-300), value2 + _Z95 * sigma2 * 4)
-    hi = np.where(seen, hi, unconstrained2 + _Z95 * sigma2)
+    seen = value2 > _Z95 * sigma2
+    nu = np.where(seen, 2.0 * (value2 / np.maximum(sigma2, 1e-300)) ** 2, 8.0)
+    lo = np.where(seen, nu * value2 / _chi2_quantile(_Z95, nu), 0.0)
+    hi_seen = nu * value2 / np.maximum(_chi2_quantile(-_Z95, nu), 1e-300)
+    hi = np.where(seen, hi_seen, np.maximum(value2, unconstrained2) + _Z95 * sigma2)
     return np.stack([np.sqrt(lo), np.sqrt(hi)], axis=-1)
 
 

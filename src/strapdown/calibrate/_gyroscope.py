@@ -18,8 +18,8 @@ from ..quaternion import canonical, conjugate, log, multiply
 from . import _ellipsoid as _e
 from . import _linear
 from ._calibration import Calibration
-from .magnetometer import InsufficientMotionError
-from .rests import find_rests
+from ._magnetometer import InsufficientMotionError
+from ._rests import find_rests
 
 __all__ = ["gyroscope", "rates_from_attitude"]
 

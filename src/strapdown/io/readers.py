@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._arrow import to_numpy
 from ._deps import need
 
 __all__ = ["FORMATS", "Source", "format_of", "open_source", "read_metadata", "read_table"]
@@ -280,12 +281,9 @@ def _arrow_to_numpy(column, origin: int | None = None) -> np.ndarray:
         return column.cast(pa.int64()).cast(pa.float64()).to_numpy(zero_copy_only=False) / per_second
     if pa.types.is_fixed_size_list(typ):
         k = typ.list_size
-        flat = column.flatten().cast(pa.float64()).to_numpy(zero_copy_only=False)
-        return flat.reshape(-1, k)
-    if not pa.types.is_float64(typ):
-        # unchecked: integers past 2**53 round to the nearest float64, as in CSV and HDF5, instead of failing
-        column = column.cast(pa.float64(), safe=False)
-    return column.to_numpy(zero_copy_only=False)
+        return to_numpy(column.flatten()).reshape(-1, k)
+    # unchecked: integers past 2**53 round to the nearest float64, as in CSV and HDF5, instead of failing
+    return to_numpy(column)  # not Array.to_numpy, which imports pandas (0.2-0.3 s per call of the CLI)
 
 
 def _int_minus(ints, origin: int | None) -> np.ndarray:

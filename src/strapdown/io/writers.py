@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from .._files import atomic_path
+from ._arrow import from_numpy
 from ._deps import need
 from .readers import COLUMNS_VARIABLE, format_of
 
@@ -125,7 +126,7 @@ def _number(text: str):
 
 def _batch(columns: Mapping[str, np.ndarray]):
     pa = need("pyarrow", "writing tables")
-    return pa.record_batch([pa.array(np.ascontiguousarray(v)) for v in columns.values()], names=list(columns))
+    return pa.record_batch([from_numpy(v) for v in columns.values()], names=list(columns))
 
 
 @contextmanager

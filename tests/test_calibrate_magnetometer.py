@@ -138,3 +138,30 @@ def test_nan_rows_skipped_json_round_trip_and_float32(tmp_path):
     (tmp_path / "bad.json").write_text('{"format": "other"}')
     with pytest.raises(ValueError, match="not a strapdown calibration file"):
         Calibration.load(tmp_path / "bad.json")
+
+
+def test_a_small_patch_of_directions_is_refused():
+    """Moving without turning (BROAD's translation trials): ±15° about one attitude, readings in a small patch."""
+    rng = np.random.default_rng(8)
+    tilt = np.radians(15) * rng.uniform(-1, 1, (3000, 2))
+    base = np.array([0.4, 0.0, 0.9165])
+    h = FIELD * (base + np.column_stack([tilt[:, 0], tilt[:, 1], -0.4 * tilt[:, 0]]))
+    h = FIELD * h / np.linalg.norm(h, axis=1, keepdims=True)
+    m = corrupt(TriadModel(bias=[5, -3, 8], noise_density=0.03), h, 0.01, "instant", rng)
+    with pytest.raises(InsufficientMotionError, match="small patch"):
+        magnetometer(m)
+    with pytest.raises(InsufficientMotionError, match="small patch"):
+        magnetometer(m, field_strength=FIELD)
+
+
+def test_warranted_only_when_the_fit_removes_most_of_the_norm_scatter():
+    rng = np.random.default_rng(9)
+    u = random_directions(3000, rng)
+    # a calibrated sensor in a field whose strength varies by ±1.5 µT from place to place: nothing to correct
+    strength = FIELD + 1.5 * np.sin(np.linspace(0, 40, 3000))
+    calibrated = magnetometer(u * strength[:, None] + 0.3 * rng.standard_normal((3000, 3)))
+    assert not calibrated.quality["warranted"]
+    assert calibrated.quality["norm_scatter_raw"] == pytest.approx(1.5 / np.sqrt(2), rel=0.15)
+    # a real hard and soft iron is worth correcting
+    model = worst_model(rng)
+    assert magnetometer(readings(model, 3000, rng)).quality["warranted"]

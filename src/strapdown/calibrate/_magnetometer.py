@@ -23,6 +23,8 @@ _MIN_SAMPLES = 30
 _MIN_THICKNESS = 0.1  # smallest/largest principal spread of the raw readings: below, they lie in a plane
 _MIN_SPREAD = 0.1  # smallest direction-scatter eigenvalue (x3, 1 = even) after the fit
 _MAX_SOFT_IRON_CONDITION = 5.0
+_EARTH_UT = (15.0, 100.0)  # the main field is 22-67 µT everywhere (WMM); a fit far outside saw no sphere
+_WARRANTED = 3.0  # raw field-norm scatter over the calibrated one above which the fit is worth applying
 
 
 class InsufficientMotionError(ValueError):
@@ -53,6 +55,15 @@ def _check_raw_motion(m: np.ndarray, name: str) -> None:
         )
     thickness = np.sqrt(max(values[0], 0.0)) / width
     if thickness < _MIN_THICKNESS:
+        # In a plane: a ring (turning about one axis: every reading as far from the centre) or a filled patch
+        # (moving without turning much: distances from 0 to the edge; uniform on a disc their spread is 0.35).
+        distance = np.linalg.norm((m - m.mean(axis=0)) @ vectors[:, 1:], axis=1)
+        if np.std(distance) > 0.25 * np.mean(distance):
+            raise InsufficientMotionError(
+                f"{name} covers only a small patch of directions (spread {width:.3g} around readings of "
+                f"{np.mean(np.linalg.norm(m, axis=1)):.3g}): the sensor moved but hardly turned; turn it through"
+                " all directions (each axis pointing up, down and around)"
+            )
         raise InsufficientMotionError(
             f"{name} lies close to a plane (thickness {thickness:.3f} of its width): the sensor turned about one"
             f" axis only, near sensor axis {_e.axis_name(vectors[:, 0])}; also turn it about the other two axes"
@@ -117,13 +128,19 @@ def magnetometer(
           (1, 1, 1 for directions spread evenly; a value near 0 means a direction never tilted);
         * ``condition``: condition number of the scaled information matrix (large: poorly determined);
         * ``soft_iron_condition``: condition number of the matrix; ``outliers``: fraction of down-weighted
-          samples (Huber weight < 0.5); ``samples``, ``iterations``.
+          samples (Huber weight < 0.5); ``samples``, ``iterations``;
+        * ``norm_scatter``, ``norm_scatter_raw``: standard deviation of the field magnitude after and before
+          the calibration (µT, at the fitted scale), and ``warranted``: whether the fit cuts it more than
+          threefold.  A field that varies in space, a disturbance or an already calibrated sensor leave a
+          scatter the ellipsoid cannot remove; a fit that removes little of it is within that model error and
+          may do more harm than good (on BROAD's calibrated sensor it does: ``benchmarks/bench_calibrate.py``).
 
     Raises
     ------
     InsufficientMotionError
-        When the sensor did not turn, or turned about one axis only, or the field directions stayed in a
-        narrow cone: the message names the axis and the motion that is missing.
+        When the sensor did not turn, turned about one axis only, the field directions stayed in a narrow
+        cone (the message names the axis and the motion that is missing), or the readings cover only a small
+        patch of directions (the fitted field is not the Earth's).
 
     Examples
     --------
@@ -173,6 +190,17 @@ def magnetometer(
             f" (direction spread {spread[0]:.3f}, 1 = even): turn the sensor also about axes across that one"
             " (tilt it so that this axis points up, down and sideways)"
         )
+    if field_strength is None and not _EARTH_UT[0] <= strength <= _EARTH_UT[1]:
+        raise InsufficientMotionError(
+            f"the fitted field is {strength:.3g} µT, not the Earth's 22-67 µT: the readings cover only a small patch"
+            " of directions (the sensor moved but hardly turned); turn it through all directions"
+        )
+    raw_extent = float(np.sqrt(np.linalg.eigvalsh(np.cov(r.T, bias=True))[-1]))
+    if raw_extent < 0.2 * strength * np.linalg.det(matrix) ** (-1 / 3):
+        raise InsufficientMotionError(
+            f"the readings span {raw_extent:.3g} µT (rms) of a {strength:.3g} µT field: only a small patch of"
+            " directions was seen (the sensor moved but hardly turned); turn it through all directions"
+        )
     soft_condition = float(np.linalg.cond(matrix))
     if soft_condition > _MAX_SOFT_IRON_CONDITION:
         raise InsufficientMotionError(
@@ -184,6 +212,9 @@ def magnetometer(
     matrix_sigma = np.zeros((3, 3))
     for p, (i, j) in enumerate(_e._SYM):
         matrix_sigma[i, j] = matrix_sigma[j, i] = sigmas[3 + p]
+    norms = np.linalg.norm(calibrated, axis=1)
+    raw_norms = np.linalg.norm(r, axis=1) * (strength / np.mean(norms))  # raw readings at the fitted field scale
+    scatter, raw_scatter = float(np.std(norms)), float(np.std(raw_norms))
     quality = {
         "field_strength": float(strength),
         "field_strength_sigma": strength_sigma,
@@ -194,6 +225,9 @@ def magnetometer(
         "condition": fit.information_condition,
         "soft_iron_condition": soft_condition,
         "outliers": float(np.mean(fit.weights < 0.5)),
+        "norm_scatter": scatter,
+        "norm_scatter_raw": raw_scatter,
+        "warranted": bool(raw_scatter > _WARRANTED * scatter),
         "samples": len(r),
         "iterations": fit.iterations,
     }

@@ -91,3 +91,33 @@ def test_refusals_reach_the_command_line(recording, tmp_path):
     assert result.exit_code != 0 and "auto needs --lat, --lon and --date" in result.output
     result = CliRunner().invoke(_build(), ["estimate", str(path), "--6d", "--declination", "3"])
     assert result.exit_code == 1 and "needs the magnetometer" in result.output
+
+
+def test_calibrate_acc_gyro_and_allan_from_a_file(tmp_path):
+    """Six faces, 4 s still on each with tumbles between: acc and gyro calibrations land in one file."""
+    rng = np.random.default_rng(2)
+    fs, bias_g, bias_a = 100.0, np.array([0.01, -0.02, 0.005]), np.array([0.2, -0.1, 0.15])
+    faces = 9.80665 * np.vstack([np.eye(3), -np.eye(3)])
+    acc, gyr = [], []
+    for k, f in enumerate(faces):
+        if k:
+            acc.append(f + 3.0 * rng.standard_normal((150, 3)))
+            gyr.append(bias_g + 2.0 * rng.standard_normal((150, 3)))
+        acc.append(f * [1.01, 0.99, 1.0] + bias_a + 0.02 * rng.standard_normal((400, 3)))
+        gyr.append(bias_g + 0.003 * rng.standard_normal((400, 3)))
+    acc, gyr = np.concatenate(acc), np.concatenate(gyr)
+    cols = {"t": np.arange(len(acc)) / fs}
+    for name, x in (("g", gyr), ("a", acc)):
+        for i, axis in enumerate("xyz"):
+            cols[name + axis] = x[:, i]
+    path = write_table(tmp_path / "faces.csv", cols)
+    cal = tmp_path / "cal.json"
+    run(["calibrate", "acc", path, "-o", cal])
+    run(["calibrate", "gyro", path, "-o", cal])
+    doc = {c["sensor"]: c for c in json.loads(cal.read_text())["calibrations"]}
+    assert sorted(doc) == ["accelerometer", "gyroscope"]
+    np.testing.assert_allclose(doc["accelerometer"]["offset"], bias_a, atol=0.01)
+    np.testing.assert_allclose(doc["accelerometer"]["quality"]["scale_factor"], [0.01, -0.01, 0.0], atol=1e-3)
+    np.testing.assert_allclose(doc["gyroscope"]["offset"], bias_g, atol=5e-4)
+    out = run(["calibrate", "allan", path])
+    assert "ARW N" in out and "bias_noise_rest=" in out

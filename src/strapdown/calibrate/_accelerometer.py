@@ -184,9 +184,7 @@ def accelerometer(
         sigma = float(np.sqrt(np.mean(noise**2)))
         fit = _e.refine(means, start[0], start[1] * gravity, gravity, sample_weights=counts, robust=False, noise=sigma)
         sig = np.sqrt(np.maximum(np.diag(fit.covariance), 0.0))
-        matrix_sigma = np.zeros((3, 3))
-        for p, (i, j) in enumerate(_e._SYM):
-            matrix_sigma[i, j] = matrix_sigma[j, i] = sig[3 + p]
+        matrix_sigma = _e.sym(sig[3:9])  # the sigmas of the 6 distinct elements, placed symmetrically
         matrix, offset, offset_sigma = fit.matrix, fit.offset, sig[:3]
         chi2 = float(np.sum(counts * fit.residual**2) / sigma**2 / max(len(poses) - 9, 1))
         rms = float(np.sqrt(np.mean(fit.residual**2)))

@@ -209,9 +209,7 @@ def magnetometer(
             " away from iron and magnets"
         )
     sigmas = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    matrix_sigma = np.zeros((3, 3))
-    for p, (i, j) in enumerate(_e._SYM):
-        matrix_sigma[i, j] = matrix_sigma[j, i] = sigmas[3 + p]
+    matrix_sigma = _e.sym(sigmas[3:9])  # the sigmas of the 6 distinct elements, placed symmetrically
     norms = np.linalg.norm(calibrated, axis=1)
     raw_norms = np.linalg.norm(r, axis=1) * (strength / np.mean(norms))  # raw readings at the fitted field scale
     scatter, raw_scatter = float(np.std(norms)), float(np.std(raw_norms))

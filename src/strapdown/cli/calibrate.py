@@ -62,8 +62,14 @@ def _summary(cal) -> None:
         click.echo(f"  {key}: {text}")
 
 
-def _fail(exc):
-    raise click.ClickException(str(exc)) from None
+def _fit_and_write(fit, path, output) -> None:
+    """Run a fit, print its summary and write it; bad input and refusals become one-line errors (exit 1)."""
+    try:
+        cal = fit()
+    except (ValueError, OSError, ImportError) as exc:
+        raise click.ClickException(str(exc)) from None
+    _summary(cal)
+    _write(cal, output, path)
 
 
 _output = click.option("-o", "--output", type=click.Path(dir_okay=False), help="Calibration file (JSON).")
@@ -97,17 +103,16 @@ def mag_command(path, output, field_strength, lat, lon, date, no_robust, **p):
     """Hard and soft iron from INPUT, a recording that turns the sensor through all directions."""
     from ..calibrate import field, magnetometer
 
-    try:
+    def fit():
+        strength = field_strength
         if lat is not None or lon is not None or date is not None:
             if None in (lat, lon, date) or field_strength is not None:
                 raise ValueError("give --lat, --lon and --date together, instead of --field-strength")
-            field_strength = float(field(latitude=lat, longitude=lon, date=date, degrees=True).strength)
+            strength = float(field(latitude=lat, longitude=lon, date=date, degrees=True).strength)
         _, data, axes = _read(path, p, ("mag",))
-        cal = magnetometer(data["mag"], field_strength=field_strength, robust=not no_robust, frame=axes)
-    except (ValueError, OSError, ImportError) as exc:
-        _fail(exc)
-    _summary(cal)
-    _write(cal, output, path)
+        return magnetometer(data["mag"], field_strength=strength, robust=not no_robust, frame=axes)
+
+    _fit_and_write(fit, path, output)
 
 
 @command.command("acc")
@@ -120,15 +125,13 @@ def acc_command(path, output, gravity, min_rest, **p):
     """Offsets, scale factors and coupling from the rests of INPUT (each face up in turn, or 9+ poses)."""
     from ..calibrate import accelerometer
 
-    try:
+    def fit():
         rate, data, axes = _read(path, p, ("acc",), ("gyro",))
-        cal = accelerometer(
+        return accelerometer(
             data["acc"], fs=rate, gyr=data.get("gyro"), gravity=gravity, frame=axes, min_duration=min_rest
         )
-    except (ValueError, OSError, ImportError) as exc:
-        _fail(exc)
-    _summary(cal)
-    _write(cal, output, path)
+
+    _fit_and_write(fit, path, output)
 
 
 @command.command("gyro")
@@ -140,13 +143,11 @@ def gyro_command(path, output, min_rest, **p):
     """The gyro bias from the rests of INPUT."""
     from ..calibrate import gyroscope
 
-    try:
+    def fit():
         rate, data, axes = _read(path, p, ("gyro",), ("acc",))
-        cal = gyroscope(data["gyro"], fs=rate, acc=data.get("acc"), frame=axes, min_duration=min_rest)
-    except (ValueError, OSError, ImportError) as exc:
-        _fail(exc)
-    _summary(cal)
-    _write(cal, output, path)
+        return gyroscope(data["gyro"], fs=rate, acc=data.get("acc"), frame=axes, min_duration=min_rest)
+
+    _fit_and_write(fit, path, output)
 
 
 @command.command("allan")
@@ -163,7 +164,7 @@ def allan_command(path, sensor, **p):
             raise ValueError(f"{path} has no sample rate: give --rate or a time column")
         result = allan(data[sensor], rate, units="rad/s" if sensor == "gyro" else "m/s^2")
     except (ValueError, OSError, ImportError) as exc:
-        _fail(exc)
+        raise click.ClickException(str(exc)) from None
     click.echo(result.table())
     if sensor == "gyro":
         n = float(result.estimator_params()["bias_noise_rest"])

@@ -403,60 +403,26 @@ def estimate_file(
     with ImuFile(path, columns, require=require, optional=optional) as imu:
         est = cls(p, q0=q0, frame=frame.upper())
         use_mag = "mag" in imu.picks
-        if declination is not None and not use_mag:
-            raise ValueError("a declination needs the magnetometer (9D): a 6D heading has no north to correct")
-        cal = _calibrations(calibration)
-        if declination is not None:
-            from ..calibrate import to_true_north
-        heading = ("true" if declination is not None else "magnetic") if use_mag else "free"
+        from ..calibrate import _apply, to_true_north  # calibration and true north (strapdown.calibrate)
+
+        cal = _apply.by_sensor(calibration)
         meta = _metadata(
             "estimate",
             estimator=estimator,
             frame=frame.upper(),
             mode="9D" if use_mag else "6D",
-            heading=heading,
-            declination_deg=None if declination is None else float(np.degrees(declination)),
-            calibration=", ".join(sorted(cal)) or None,
+            **_apply.heading_metadata(use_mag, declination, cal),
         )
         with table_writer(output, out.format, meta) as w:
             for chunk in _chunks_with_progress(imu, chunk_rows, progress):
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
-                gyro, acc, mag = (
-                    _calibrated(cal, s, x)
-                    for s, x in (
-                        ("gyroscope", chunk.gyro),
-                        ("accelerometer", chunk.acc),
-                        ("magnetometer", chunk.mag if use_mag else None),
-                    )
-                )
+                gyro, acc, mag = _apply.readings(cal, chunk.gyro, chunk.acc, chunk.mag if use_mag else None)
                 e = est.update(gyro, acc, mag, **timing, **chunk.extra)
                 q = e.q if declination is None else to_true_north(e.q, declination, frame=frame.upper())
                 w.write(attitude_columns(chunk.t, q, out, e.bias, e.flags))
         report = Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, output frame {frame.upper()}")
         return report
-
-
-def _calibrations(calibration) -> dict:
-    """Calibrations by sensor name, checked (strapdown.calibrate.load's result or a sequence of them)."""
-    from ..calibrate import Calibration
-
-    if calibration is None:
-        return {}
-    items = calibration.values() if isinstance(calibration, dict) else calibration
-    out = {}
-    for cal in items:
-        if not isinstance(cal, Calibration):
-            raise ValueError(f"calibration must hold strapdown.calibrate.Calibration objects, got {type(cal).__name__}")
-        out[cal.sensor] = cal
-    return out
-
-
-def _calibrated(cal: dict, sensor: str, x):
-    """Readings (rates, not increments: estimate_file reads rates) with the sensor's calibration applied."""
-    if x is None or sensor not in cal:
-        return x
-    return cal[sensor].apply(x)
 
 
 _QUAT_NAMES = (

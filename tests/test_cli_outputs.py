@@ -248,3 +248,62 @@ def test_integrate_restarts_from_q0_after_a_gap(tmp_path):
     expected = signed(10.0 + 0.9 * np.arange(n))
     np.testing.assert_allclose(signed(roll[:n]), expected, atol=1e-9)
     np.testing.assert_allclose(signed(roll[n:]), expected, atol=1e-9)
+
+
+# ------------------------------------------------------------------------------------------------ real layouts
+DATA = __import__("pathlib").Path(__file__).parent / "data"
+PX4_LOG = DATA / "px4" / "sample_logging_tagged_and_default_params.ulg"
+
+
+def test_a_phone_export_given_as_its_files_or_its_folder_lies_flat(tmp_path):
+    import sim_exports as sim
+
+    data = sim.phone_at_rest(duration=10.0)  # flat on a table, top to the north: simulated, Sensor Logger layout
+    folder = sim.sensor_logger(tmp_path / "export", data)
+    files = [folder / n for n in ("Gyroscope.csv", "TotalAcceleration.csv", "Magnetometer.csv")]
+    from conftest import rotation_angle
+    from strapdown import change_frame
+    from strapdown.fusion import AttitudeEstimator
+    from strapdown.io import read_imu
+
+    got = read_imu(folder, optional=("acc", "mag"))  # the library on the same readings, in the phone's axes
+    q_rfu = AttitudeEstimator().update(got.gyro, got.acc, got.mag, t=got.t).q
+    library_flu = change_frame(q_rfu, body_from="RFU", body_to="FLU")
+    ok("estimate", *files, "-o", tmp_path / "files.parquet")
+    ok("estimate", folder, "-o", tmp_path / "folder.parquet")
+    for name in ("files", "folder"):
+        table = read_table(tmp_path / f"{name}.parquet")
+        late = table["t"] > table["t"][-1] - 1.0
+        assert np.abs(table["pitch_deg"][late]).max() < 2.0 and np.abs(table["roll_deg"][late]).max() < 2.0
+        # Android's axes (RFU) turned into ENU's FLU: the library's attitude of the phone's own axes, re-expressed
+        # (the simulated consumer magnetometer's hard iron puts the heading off north; it is the same in both)
+        q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+        assert rotation_angle(q, library_flu).max() < 1e-9
+        meta = read_metadata(tmp_path / f"{name}.parquet")
+        assert (meta["frame"], meta["body"], meta["sensor_axes"]) == ("ENU", "FLU", "RFU")
+        assert meta["time_origin_kind"] == "epoch" and int(meta["time_origin"]) == sim.EPOCH_NS
+        assert table["t"][0] == 0.0
+
+
+def test_a_px4_log_goes_in_with_no_options_in_its_own_frames(tmp_path):
+    from strapdown.io import read_reference
+    from strapdown.metrics import attitude_errors
+
+    res = ok("estimate", PX4_LOG, "-o", tmp_path / "att.parquet")
+    assert "read:" in res.stderr
+    meta = read_metadata(tmp_path / "att.parquet")
+    assert (meta["frame"], meta["body"], meta["sensor_axes"]) == ("NED", "FRD", "FRD")
+    assert (meta["time_origin"], meta["time_origin_unit"], meta["time_origin_kind"]) == ("284000", "us", "boot")
+    table = read_table(tmp_path / "att.parquet")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+    ref = read_reference(PX4_LOG)  # the log's own estimator, on the same time origin
+    keep = (ref.t > 2.0) & (ref.t <= table["t"][-1])
+    rows = np.searchsorted(table["t"], ref.t[keep])
+    assert np.degrees(attitude_errors(q[rows], ref.q[keep])["inclination"]).max() < 1.0
+
+
+def test_sensors_at_lower_rates_are_refused_by_an_estimator_that_needs_every_row():
+    err = run("estimate", PX4_LOG, "-e", "mahony").stderr  # its magnetometer runs at a fraction of the gyro rate
+    assert "mag" in err and "-e attitude" in err
+    res = run("estimate", PX4_LOG, "-e", "mahony", "--6d", "-o", "/dev/null", "--format", "csv")
+    assert res.returncode == 0, res.stderr

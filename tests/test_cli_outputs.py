@@ -307,3 +307,53 @@ def test_sensors_at_lower_rates_are_refused_by_an_estimator_that_needs_every_row
     assert "mag" in err and "-e attitude" in err
     res = run("estimate", PX4_LOG, "-e", "mahony", "--6d", "-o", "/dev/null", "--format", "csv")
     assert res.returncode == 0, res.stderr
+
+
+# ------------------------------------------------------------------------------------------------ plot --truth
+def test_plot_truth_in_other_frames_is_re_expressed_and_said_so(tmp_path):
+    from conftest import rotation_angle
+    from strapdown.io.truth import align_truth
+    from strapdown.metrics import attitude_errors
+
+    ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 20)  # truth in ENU, FLU axes
+    ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "ned.parquet", "--frame", "NED", "--body", "FLU")
+    res = ok("plot", tmp_path / "ned.parquet", "--truth", tmp_path / "sim.parquet", "--out", tmp_path / "fig")
+    assert "truth re-expressed from ENU/FLU to NED/FRD" in res.stderr
+    assert sorted(p.name for p in (tmp_path / "fig").iterdir())[:2] == ["ned_angles.png", "ned_bias.png"]
+    # the numbers behind the error figure: small once re-expressed, a half turn as the files stand
+    table = read_table(tmp_path / "ned.parquet")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+    aligned = align_truth(tmp_path / "ned.parquet", tmp_path / "sim.parquet")
+    # a few degrees: the simulated field's 4 deg declination in the heading, the rocking's accelerations in the tilt
+    assert np.degrees(rotation_angle(q, aligned.q)).max() < 8.0
+    assert np.degrees(attitude_errors(q, aligned.q)["inclination"]).max() < 5.0
+    raw = read_table(tmp_path / "sim.parquet")
+    q_true = np.column_stack([raw[c] for c in ("qw_true", "qx_true", "qy_true", "qz_true")])
+    assert np.degrees(rotation_angle(q, q_true)).min() > 90.0
+
+
+def test_plot_truth_without_frames_is_refused_until_they_are_declared(tmp_path):
+    ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 10)
+    raw = read_table(tmp_path / "sim.parquet")
+    bare = write_table(tmp_path / "ref.csv", {"t": raw["t"], **{c: raw[f"{c}_true"] for c in ("qw", "qx", "qy", "qz")}})
+    ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "att.parquet", "--body", "FLU")
+    res = run("plot", tmp_path / "att.parquet", "--truth", bare, "--out", tmp_path / "fig")
+    assert res.returncode == 1 and "--truth-frame" in res.stderr and "does not say" in res.stderr
+    assert not (tmp_path / "fig").exists() or not list((tmp_path / "fig").iterdir())
+    ok("plot", tmp_path / "att.parquet", "--truth", bare, "--truth-frame", "ENU", "--truth-body", "FLU", "--out",
+       tmp_path / "fig")  # fmt: skip
+
+
+def test_a_px4_logs_own_attitude_is_a_truth_for_plot(tmp_path):
+    from conftest import rotation_angle
+    from strapdown.io.truth import align_truth
+
+    ok("estimate", PX4_LOG, "-o", tmp_path / "att.csv")
+    res = ok("plot", tmp_path / "att.csv", "--truth", PX4_LOG, "--out", tmp_path / "fig")
+    assert "interpolated" in res.stderr and res.stdout.count("written:") >= 2
+    aligned = align_truth(tmp_path / "att.csv", PX4_LOG)
+    table = read_table(tmp_path / "att.csv")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])[aligned.rows]
+    late = table["t"][aligned.rows] > 2.0
+    # the log's estimator and ours agree on the tilt at rest; the whole error (with heading) stays within degrees
+    assert np.degrees(rotation_angle(q[late], aligned.q[aligned.rows][late])).max() < 10.0

@@ -955,7 +955,16 @@ def simulate_file(
         rate_hz=rate,
         gyro_input=data.gyro_input,
         reference=reference,
-        body=body,
+        frame=reference.upper(),  # the truth's, and the name every reader of frames looks for
+        body=body.upper(),
+        quaternion="w,x,y,z scalar first, Hamilton, body to frame (qw_true..qz_true)",
+        time_unit="s",
+        time_origin="0",
+        time_origin_unit="s",
+        time_origin_kind="file",
+        gyro_unit=gyro_unit,
+        acc_unit=acc_unit,
+        mag_unit=mag_unit,
         imu=imu,
         seed=seed,
     )

@@ -5,12 +5,11 @@ every expected number comes from physics, not from the code under test.
 """
 
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+from conftest import strapdown_cli
 from strapdown.io import read_metadata, read_table, write_table
 
 G = 9.80665
@@ -18,10 +17,7 @@ G = 9.80665
 B_NED = np.array([30.0, 0.0, 30.0])
 
 
-def run(*args, timeout=180):
-    return subprocess.run(
-        [sys.executable, "-m", "strapdown.cli", *map(str, args)], capture_output=True, text=True, timeout=timeout
-    )
+run = strapdown_cli
 
 
 def ok(*args):

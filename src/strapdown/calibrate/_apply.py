@@ -33,8 +33,9 @@ def heading_metadata(use_mag: bool, declination, cal: dict) -> dict:
     """What the output's heading refers to, for the file's metadata; refuses a declination without magnetometer."""
     if declination is not None and not use_mag:
         raise ValueError("a declination needs the magnetometer (9D): a 6D heading has no north to correct")
-    return {
+    items = {
         "heading": ("true" if declination is not None else "magnetic") if use_mag else "free",
         "declination_deg": None if declination is None else float(np.degrees(declination)),
         "calibration": ", ".join(sorted(cal)) or None,
     }
+    return {k: str(v) for k, v in items.items() if v is not None}  # metadata values are text

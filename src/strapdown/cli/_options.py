@@ -58,8 +58,19 @@ def read_options(f, *, acc: bool = True, mag: bool = True):
             metavar="K",
             help="Largest time step allowed, in sample periods (0: no check).",
         ),
+        click.option(
+            "--on-gap",
+            type=click.Choice(["error", "split", "restart"]),
+            default="error",
+            show_default=True,
+            help="At a gap over --max-gap: stop; write a file per segment; or start afresh, with a segment column.",
+        ),
         click.option("--no-unit-check", is_flag=True, help="Do not check that magnitudes fit the units."),
-        click.option("--in-format", type=click.Choice(FORMATS), help="Input format (default: from the suffix)."),
+        click.option("--topic", metavar="NAME", help="Bag or log topic of the IMU (listed when ambiguous)."),
+        click.option("--mag-topic", metavar="NAME", help="Bag or log topic of the magnetometer."),
+        click.option(
+            "--in-format", type=click.Choice(input_formats()), help="Input format (default: from the suffix, folder)."
+        ),
     ]
     for opt in reversed([o for o in opts if o is not None]):
         f = opt(f)
@@ -163,7 +174,10 @@ def columns_spec(p: dict, extra=()):
     max_gap = p.get("max_gap", 10.0)
     if not max_gap >= 0:  # NaN included
         raise click.BadParameter(f"sample periods >= 0 (0: no check), got {max_gap}", param_hint="--max-gap")
+    # topics only when given: readers without them (a CSV) keep their ImuColumns fields
+    topics = {k: p[k] for k in ("topic", "mag_topic") if p.get(k)}
     return ImuColumns(
+        **topics,
         gyro=p.get("gyro"),
         acc=p.get("acc"),
         mag=p.get("mag"),
@@ -234,18 +248,67 @@ def run_file(function, path, output, kwargs: dict, quiet: bool) -> None:
         bar.close()
         raise click.ClickException(str(exc)) from None
     bar.close()
-    if not quiet:
-        if report.read:
-            click.echo(f"read: {report.read}", err=True)
-        for note in report.notes:
+    if not quiet and report.read:
+        click.echo(f"read: {report.read}", err=True)
+    for note in report.notes:
+        if not quiet or note.startswith("warning:"):  # a warning is said even with -q
             click.echo(note, err=True)
-        click.echo(f"written: {report.output} ({report.rows} rows, {report.seconds:.2f} s)")
+    if not quiet:
+        outputs = getattr(report, "outputs", None) or [report.output]
+        more = f" in {len(outputs)} files: {', '.join(map(str, outputs))}" if len(outputs) > 1 else ""
+        click.echo(f"written: {report.output} ({report.rows} rows{more}, {report.seconds:.2f} s)")
 
 
 def input_argument():
     import click
 
     return click.argument("path", metavar="INPUT", type=click.Path(exists=True, dir_okay=False))
+
+
+def inputs_argument():
+    """One recording: a file, several files (one per sensor), or an export folder."""
+    import click
+
+    return click.argument("paths", metavar="INPUT...", nargs=-1, required=True, type=click.Path(exists=True))
+
+
+def one_or_many(paths):
+    """The path, or the list of paths of one recording given as several files."""
+    return paths[0] if len(paths) == 1 else list(paths)
+
+
+def frame_options(f, *, integrate: bool = False):
+    """--frame, --body and --out-body: the reference frame and the axes of readings and attitudes."""
+    import click
+
+    frame_help = (
+        "Reference frame that --q0 is in (default: the body axes at the first sample)."
+        if integrate
+        else "Reference frame of the output (default: the format's preset, e.g. NED for a PX4 log; else ENU)."
+    )
+    opts = [
+        click.option("--frame", type=click.Choice(FRAMES, case_sensitive=False), help=frame_help),
+        click.option(
+            "--body",
+            metavar="AXES",
+            help="Axes of the readings: FRD (PX4, ArduPilot), FLU (ROS REP 103), RFU (Android), ... "
+            "(default: the format's preset, else those of the output).",
+        ),
+        click.option(
+            "--out-body",
+            metavar="AXES",
+            help="Body axes of the output attitudes (default: FRD with NED, FLU with ENU and NWU: level is zero).",
+        ),
+    ]
+    for opt in reversed(opts):
+        f = opt(f)
+    return f
+
+
+def input_formats():
+    from ..io import readers
+
+    return list(getattr(readers, "INPUT_FORMATS", FORMATS))
 
 
 def is_number(text: str) -> bool:
@@ -292,3 +355,114 @@ def scenarios():
     from ..simulate.scenarios import SCENARIOS
 
     return SCENARIOS
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Estimator parameters on the command line, in the library's units or in degrees with the unit in the name.
+
+_DEG_SUFFIXES = ("_deg_s", "_dps", "_deg")  # longest first: bias_limit_deg_s is bias_limit in deg/s
+_RAD_SUFFIXES = ("_rad_s", "_rad")
+_UNIT_IN_DOC = r",\s*(rad/s·√s|rad/s|rad|1/s²|1/s|1/√s|√s|m/s²|µT|s)(?![\w/])"
+
+
+def param_units(estimator: str) -> dict[str, str]:
+    """Parameter name -> its unit as the parameter class documents it ("rad/s", "s", "1/s", "" when unstated)."""
+    import dataclasses
+    import re
+
+    cls = estimators()[estimator][1]
+    doc = cls.__doc__ or ""
+    units = {}
+    for f in dataclasses.fields(cls):
+        m = re.search(rf"^\s*{f.name}\s*:.*\n((?:\s{{8,}}.*\n?)*)", doc, re.M)
+        # numpydoc "name : float / Description, unit (default ...)": the first ", <unit>" of the description
+        u = re.search(_UNIT_IN_DOC, " ".join(m.group(1).split())) if m else None
+        units[f.name] = u.group(1) if u else ""
+    return units
+
+
+def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
+    """``NAME=VALUE`` options as parameters: ``bias_limit_deg_s=5`` (degrees, unit in the name), ``bias_limit=0.087``.
+
+    A name ending in ``_deg``, ``_deg_s`` or ``_dps`` gives a parameter that the library takes in radians (rad,
+    rad/s, rad/s·√s) in degrees instead, the unit of the outputs; ``_rad`` and ``_rad_s`` say radians.
+    """
+    import math
+
+    import click
+
+    units = param_units(estimator)
+    out = {}
+    for text in assignments or ():
+        name, value = assignment(text, option)
+        base, scale = name, None
+        for suffix, factor in [(s, math.pi / 180) for s in _DEG_SUFFIXES] + [(s, 1.0) for s in _RAD_SUFFIXES]:
+            if name.endswith(suffix) and name[: -len(suffix)] in units:
+                base, scale = name[: -len(suffix)], factor
+                break
+        if scale is not None:
+            if not units[base].startswith("rad"):
+                raise click.BadParameter(
+                    f"{base} of {estimator} is in {units[base] or 'no angular unit'}, not an angle or a rate: "
+                    f"write {base}=VALUE",
+                    param_hint=option,
+                )
+            if not isinstance(value, float):
+                raise click.BadParameter(f"{name} takes a number, got {value!r}", param_hint=option)
+            value = value * scale
+        if base in out:
+            raise click.BadParameter(f"{base} is given twice", param_hint=option)
+        out[base] = value
+    return out
+
+
+def list_params(estimator: str) -> str:
+    """A table of an estimator's parameters: name, default, unit, and the default in degrees where angular."""
+    import dataclasses
+    import math
+
+    cls = estimators()[estimator][1]
+    units = param_units(estimator)
+    lines = [f"{estimator} parameters (-p NAME=VALUE; angles and rates also as -p NAME_deg=... / NAME_deg_s=...):"]
+    for f in dataclasses.fields(cls()):
+        value = getattr(cls(), f.name)
+        unit = units.get(f.name, "")
+        deg = ""
+        if unit.startswith("rad") and isinstance(value, float):
+            suffix = "_deg" if unit == "rad" else "_deg_s"
+            deg = f"    = {f.name}{suffix}={math.degrees(value):.6g}"
+        shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+        lines.append(f"  {f.name:24} {shown:>14} {unit:10}{deg}")
+    return "\n".join(lines)
+
+
+def writable_folder(folder, option: str) -> None:
+    """Refuse a folder that cannot be written before anything is computed (created when missing)."""
+    import os
+    from pathlib import Path
+
+    import click
+
+    path = Path(folder)
+    probe = path
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise click.BadParameter(f"cannot write into {path} ({probe} is not a writable folder)", param_hint=option)
+
+
+def writable_file(file, option: str) -> None:
+    """Refuse an output file that cannot be written (its folder, or the file itself, read-only) before computing."""
+    import os
+    from pathlib import Path
+
+    import click
+
+    path = Path(file)
+    if path.exists() and not os.access(path, os.W_OK):
+        raise click.BadParameter(f"cannot write {path}: it is read-only", param_hint=option)
+    writable_folder(path.parent if str(path.parent) else ".", option)
+
+
+#: Rows a simulation may write at most: 10^8 rows of 17 columns are about 14 GB in memory.
+MAX_SIMULATED_ROWS = 100_000_000

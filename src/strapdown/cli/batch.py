@@ -98,6 +98,8 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
     fmt = params.get("out_format")
     if split is not None and command != "integrate":
         raise click.UsageError("--split works with integrate only")
+    if split is not None and kwargs.get("on_gap", "error") != "error":
+        raise click.UsageError("--split stops at gaps: leave out --on-gap")
     if split is not None and split < 1:
         raise click.UsageError(f"--split takes a positive number of parts, got {split}")
     try:  # before any file is read: outputs that clash, and a split the method cannot take
@@ -120,7 +122,8 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
         if failed:
             raise click.ClickException(f"{failed} of {len(files)} files failed")
         return
-    jobs = [Job(command, str(f), str(o), kwargs) for f, o in zip(files, outputs, strict=True)]
+    # absolute paths: a Dask worker runs in its own working folder, where relative ones name nothing
+    jobs = [Job(command, str(f.absolute()), str(o.absolute()), kwargs) for f, o in zip(files, outputs, strict=True)]
     bar = Progress(quiet, unit="files")
     done = [0]
 

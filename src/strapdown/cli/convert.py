@@ -92,7 +92,7 @@ def _convert_values(args, p: dict) -> None:
     import click
     import numpy as np
 
-    from ..io.pipeline import convert_values
+    from ..io.pipeline import RowError, convert_values
     from ..io.tables import REPRESENTATIONS, column_names
 
     bad = [a for a in args if not is_number(a)]
@@ -109,6 +109,8 @@ def _convert_values(args, p: dict) -> None:
         raise click.UsageError(f"the numbers must be finite, got {' '.join(args)}")
     try:
         results = {t: convert_values(values, source, t, angles_in, angles_out)[0] for t in targets}
+    except RowError as exc:
+        raise click.UsageError(f"the numbers {' '.join(args)} hold {exc.problem}") from None
     except ValueError as exc:
         raise click.ClickException(str(exc)) from None
     for t, v in results.items():

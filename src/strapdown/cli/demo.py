@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import click
 
+from ._options import writable_folder
+
 
 @click.command()
 @click.option("--out", default="out", show_default=True, type=click.Path(file_okay=False), help="Output directory.")
@@ -20,4 +22,5 @@ def command(out):
     """
     from ..demo import run
 
+    writable_folder(out, "--out")  # before the computation, not after it
     run(out, echo=click.echo)

@@ -6,13 +6,16 @@ import click
 
 from ._options import (
     CHUNK_ROWS,
-    FRAMES,
     assignment,
     columns_spec,
     estimate_output_options,
     estimators,
-    input_argument,
+    frame_options,
+    inputs_argument,
+    list_params,
+    one_or_many,
     output_spec,
+    parse_params,
     parse_q0,
     read_options,
     run_file,
@@ -25,8 +28,11 @@ def kwargs(p: dict) -> dict:
     mode = p.get("mode")
     return {
         "estimator": p.get("estimator") or "attitude",
-        "params": dict(assignment(a, "--param") for a in p.get("params") or ()),
-        "frame": (p.get("frame") or "ENU").upper(),
+        "params": parse_params(p.get("estimator") or "attitude", p.get("params")),
+        "frame": p.get("frame") and p["frame"].upper(),
+        "body": p.get("body"),
+        "out_body": p.get("out_body"),
+        "on_gap": p.get("on_gap") or "error",
         "mag": {"9d": True, "6d": False}.get(mode),
         "q0": parse_q0(p.get("q0")),
         "columns": columns_spec(p, ((n, v.strip()) for n, v in extra)),
@@ -66,17 +72,33 @@ def _calibration_kwargs(p: dict) -> dict:
     return out
 
 
+def _list_params(ctx, param, value):
+    if value:
+        click.echo(list_params(ctx.params.get("estimator") or "attitude"))
+        ctx.exit()
+
+
 @click.command()
-@input_argument()
-@click.option("-e", "--estimator", type=click.Choice(list(estimators())), default="attitude", show_default=True)
-@click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE", help="Set a parameter (repeatable).")
+@inputs_argument()
 @click.option(
-    "--frame",
-    type=click.Choice(FRAMES, case_sensitive=False),
-    default="ENU",
-    show_default=True,
-    help="Reference frame of the output.",
+    "-e", "--estimator", type=click.Choice(list(estimators())), default="attitude", show_default=True, is_eager=True
 )
+@click.option(
+    "-p",
+    "--param",
+    "params",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="Set a parameter (repeatable); angles and rates in degrees with the unit in the name: bias_limit_deg_s=5.",
+)
+@click.option(
+    "--list-params",
+    is_flag=True,
+    expose_value=False,
+    callback=_list_params,
+    help="Print the estimator's parameters, defaults and units, and exit.",
+)
+@frame_options
 @click.option("--9d", "mode", flag_value="9d", help="Require the magnetometer (default: use it when found).")
 @click.option("--6d", "mode", flag_value="6d", help="Leave the magnetometer out.")
 @click.option(
@@ -93,17 +115,26 @@ def _calibration_kwargs(p: dict) -> dict:
 @click.option("--date", help="Date, YYYY-MM-DD or decimal year (--declination auto).")
 @read_options
 @estimate_output_options
-def command(path, **p):
+def command(paths, **p):
     """Run a fusion filter over INPUT and write its attitudes, bias and flags, streaming (any file size).
 
-    One output row per input row: the attitude after that row's sample.  Parameters as for evaluate.
+    INPUT is one recording: a file, one file per sensor (Gyroscope.csv Accelerometer.csv ...), or an export
+    folder.  One output row per gyro row: the attitude after that row's sample.  Sensors at lower rates leave
+    rows without their sample, which the attitude estimator takes as such.  Output: t (s from the first
+    sample), qw..qz (body to frame), Euler angles, bias_* (deg/s), flags and the boolean columns rest,
+    acc_rejected, mag_rejected, inverted, bias_at_limit; the frame, body axes, units and the time origin are
+    stored in the file (a CSV: "# key: value" lines above the header).
 
     \b
     Examples:
       strapdown estimate log.csv                                       # 9D if the file has a magnetometer
+      strapdown estimate Gyroscope.csv Accelerometer.csv Magnetometer.csv
+      strapdown estimate flight.ulg                                    # NED, FRD: the log's own convention
       strapdown estimate log.parquet -e madgwick -p beta=0.05 --frame ned -o att.parquet
+      strapdown estimate drone.csv --body FRD --frame ENU -p bias_limit_deg_s=5
       strapdown estimate broad/01_undisturbed_slow_rotation_A.mat -e mahony --9d
       strapdown estimate chair.csv -e tilt --extra known_acc=cx,cy,cz --acc-unit g
+      strapdown estimate -e attitude --list-params
       strapdown estimate log.csv --calibration cal.json --declination auto --lat 52.5 --lon 13.4 --date 2025-06-01
     """
     from ..io import estimate_file
@@ -112,4 +143,4 @@ def command(path, **p):
         options = kwargs(p)
     except (ValueError, OSError, ImportError) as exc:  # a bad calibration file, a date out of the model's span
         raise click.ClickException(str(exc)) from None
-    run_file(estimate_file, path, p.get("output"), options, p["quiet"])
+    run_file(estimate_file, one_or_many(paths), p.get("output"), options, p["quiet"])

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import assignment, estimators, parse_value
+from ._options import assignment, estimators, parse_params, parse_value, writable_file
 
 
 @click.command()
@@ -47,11 +47,21 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
     from ..evaluate import evaluate as run_evaluate
     from ..evaluate import grid_search
 
-    fixed = dict(assignment(a, "--param") for a in params)
+    fixed = parse_params(estimator, params)
+    if csv_path:
+        writable_file(csv_path, "--csv")
     ranges = {}
     for a in grid:
         name, value = assignment(a, "--grid", raw=True)
-        ranges[name] = [parse_value(v) for v in value.split(",") if v.strip()]
+        values = [parse_value(v) for v in value.split(",") if v.strip()]
+        defaults = _defaults(estimator)
+        if name in defaults and not isinstance(defaults[name], str):
+            words = [v for v in values if not isinstance(v, float)]
+            if words:
+                raise click.BadParameter(
+                    f"{name} takes numbers, got {', '.join(map(repr, words))}", param_hint="--grid"
+                )
+        ranges[name] = values
     names = [t.strip() for t in trials.split(",") if t.strip()] if trials else None
     heading = False if keep_heading_offset else None
     try:
@@ -76,3 +86,10 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
     if csv_path:
         result.to_csv(csv_path)
         click.echo(f"written: {csv_path}")
+
+
+def _defaults(estimator: str) -> dict:
+    import dataclasses
+
+    params = estimators()[estimator][1]()
+    return {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import FORMATS, flight_options, unit_option
+from ._options import FORMATS, MAX_SIMULATED_ROWS, flight_options, unit_option
 
 
 @click.command()
@@ -32,8 +32,22 @@ def command(output, **p):
       strapdown simulate chair.h5 --scenario rocking --reference NED --body FRD --gyro-unit deg/s --acc-unit g
       strapdown simulate dtheta.mat --samples increment --duration 10
     """
-    from ..io import simulate_file
+    import math
 
+    from ..io import simulate_file
+    from ..simulate.scenarios import scenario
+
+    rate, duration = p["rate"], p["duration"]
+    if not (math.isfinite(rate) and rate > 0):
+        raise click.BadParameter(f"a positive number of Hz, got {rate}", param_hint="--rate")
+    if duration is not None and not (math.isfinite(duration) and duration > 0):
+        raise click.BadParameter(f"a positive number of seconds, got {duration}", param_hint="--duration")
+    seconds = scenario(p["scenario"]).duration if duration is None else duration
+    if rate * seconds > MAX_SIMULATED_ROWS:
+        raise click.UsageError(
+            f"{seconds:g} s at {rate:g} Hz would be {rate * seconds:.3g} rows; at most {MAX_SIMULATED_ROWS:.0e} are "
+            "simulated at once: lower --rate or --duration"
+        )
     kwargs = {
         "scenario": p["scenario"],
         "rate": p["rate"],

@@ -225,6 +225,12 @@ def main(argv=None) -> int:
                     f"{name}: mean total RMSE {mean:.3f}° (raw {np.mean([r['raw'] for r in rows]):.3f}°); "
                     f"trials worse by > 0.05°: {', '.join(worse) or 'none'}"
                 )
+            fitted = [r for r in rows if "recovered" in r]
+            print(
+                f"distorted magnetometer: mean {np.mean([r['distorted'] for r in rows]):.3f}°; recovered on the "
+                f"{len(fitted)} trials whose fit was accepted: {np.mean([r['recovered'] for r in fitted]):.3f}° "
+                f"(raw on the same trials {np.mean([r['raw'] for r in fitted]):.3f}°)"
+            )
         else:
             print(f"\nBROAD skipped: {args.broad} not found")
     if args.json:

@@ -108,3 +108,13 @@ def test_rest_finder_on_broad_breaks():
                 assert np.any((rests[:, 0] < b) & (rests[:, 1] > a)), (path.name, a / trial.rate)
         with pytest.raises(InsufficientMotionError, match="missing"):
             accelerometer(trial.acc, gyr=trial.gyr, fs=trial.rate)
+
+
+def test_many_poses_near_one_face_are_refused_naming_the_axis():
+    """Ten rests all within 20° of z up: enough poses for the ellipsoid fit, but gravity never along x or y."""
+    rng = np.random.default_rng(12)
+    tilt = np.radians(20) * rng.uniform(-1, 1, (10, 2))
+    up = np.column_stack([np.sin(tilt[:, 0]), np.sin(tilt[:, 1]), np.ones(10)])
+    acc, _ = recording(GRAVITY * up / np.linalg.norm(up, axis=1, keepdims=True), rng)
+    with pytest.raises(InsufficientMotionError, match=r"cone around sensor axis .*\(≈ z\)"):
+        accelerometer(acc, fs=100.0)

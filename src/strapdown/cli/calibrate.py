@@ -69,6 +69,14 @@ def _fit_and_write(fit, path, output) -> None:
     except (ValueError, OSError, ImportError) as exc:
         raise click.ClickException(str(exc)) from None
     _summary(cal)
+    q = cal.quality
+    if q.get("warranted") is False:
+        click.echo(
+            f"warning: the fit cuts the field-norm scatter only {q['norm_scatter_raw'] / q['norm_scatter']:.2f}-fold "
+            f"({q['norm_scatter_raw']:.3g} -> {q['norm_scatter']:.3g} µT): the sensor may be calibrated already, or "
+            "the field varies where it was turned; applying this fit may not help",
+            err=True,
+        )
     _write(cal, output, path)
 
 

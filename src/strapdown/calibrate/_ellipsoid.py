@@ -84,7 +84,7 @@ def _residuals(r, b, w_mat, radius):
     d = r - b
     c = d @ w_mat.T
     norm = np.linalg.norm(c, axis=1)
-    u = c / norm[:, None]
+    u = c / np.maximum(norm, 1e-300)[:, None]  # a reading exactly at the centre has no direction: no pull
     grad = u @ w_mat  # rows u_iᵀ W = (Wᵀu_i)ᵀ, W symmetric
     g = 1.0 / np.linalg.norm(grad, axis=1)  # geometric factor: radial residual -> distance in reading units
     e = norm - radius
@@ -142,7 +142,11 @@ def refine(
         grad = jw.T @ rw
         improved = False
         for _ in range(30):
-            step = np.linalg.solve(h + lam * np.diag(np.diag(h) + 1e-300), -grad)
+            try:
+                step = np.linalg.solve(h + lam * np.diag(np.diag(h) + 1e-300), -grad)
+            except np.linalg.LinAlgError:  # singular even with damping: damp harder
+                lam *= 10
+                continue
             trial = theta + step
             if np.linalg.eigvalsh(sym(trial[3:])).min() > 0:
                 c_new, res_new, jac_new = cost_of(trial, huber)

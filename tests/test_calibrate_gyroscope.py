@@ -128,3 +128,15 @@ def test_allan_of_the_simulator_gyro_matches_its_model():
 def test_allan_rejects_short_input():
     with pytest.raises(ValueError, match="at least 64"):
         allan(np.zeros((10, 3)), 100.0)
+
+
+def test_allan_bias_calibration():
+    rng = np.random.default_rng(4)
+    fs, n_true, bias = 20.0, 2e-4, np.array([0.01, -0.02, 0.003])
+    gyr = bias + n_true * np.sqrt(fs) * rng.standard_normal((int(2000 * fs), 3))
+    r = allan(gyr, fs)
+    cal = r.calibration()
+    # white noise only: the mean of T seconds scatters by N/√T
+    np.testing.assert_allclose(cal.offset_sigma, n_true / np.sqrt(2000.0), rtol=0.1)
+    assert np.all(np.abs(cal.offset - bias) < 4 * cal.offset_sigma)
+    np.testing.assert_allclose(r.apply(gyr).mean(axis=0), 0.0, atol=1e-12)

@@ -57,6 +57,8 @@ class AllanAnalysis:
         Sample rate, Hz.
     units : str
         Units of the signal.
+    n : int
+        Number of samples.
     """
 
     taus: np.ndarray
@@ -71,6 +73,7 @@ class AllanAnalysis:
     mean: np.ndarray
     fs: float
     units: str
+    n: int = 0
 
     def triad_model(self, *, bias: bool = True):
         """A :class:`strapdown.simulate.TriadModel` with this sensor's white noise and rate random walk.
@@ -105,6 +108,41 @@ class AllanAnalysis:
         over T seconds scatters by N/√T.  Use as ``AttitudeParams(**analysis.estimator_params())``.
         """
         return {"bias_noise_rest": float(np.sqrt(np.mean(self.arw**2)))}
+
+    @property
+    def duration(self) -> float:
+        """Length of the record, s (the longest τ is a quarter of it by default)."""
+        return float(self.n / self.fs)
+
+    def calibration(self, *, sensor: str = "gyroscope", frame: str = "sensor"):
+        """The mean at rest as a bias-only :class:`~strapdown.calibrate.Calibration`.
+
+        Its sigma is the white-noise level ``N/√T`` of a mean over the record's T seconds, as for
+        :func:`~strapdown.calibrate.gyroscope`'s bias from rests; a wandering bias (B, K) moves the mean of
+        another record by more, about the Allan deviation at that record's length.
+        """
+        from ._calibration import Calibration
+
+        t = self.duration
+        sigma = self.arw / np.sqrt(t)
+        if self.mean.shape != (3,):
+            raise ValueError(f"a calibration needs three axes; this analysis has {self.mean.shape[0]}")
+        quality = {"duration_s": t, "arw": self.arw, "bias_instability": self.bias_instability}
+        quality["rate_random_walk"] = self.rate_random_walk
+        return Calibration(
+            sensor,
+            offset=self.mean,
+            matrix=np.eye(3),
+            frame=frame,
+            offset_sigma=sigma,
+            matrix_sigma=np.zeros((3, 3)),
+            quality=quality,
+            method="mean at rest (Allan analysis)",
+        )
+
+    def apply(self, readings) -> np.ndarray:
+        """Readings with the mean at rest (the bias) removed: ``self.calibration().apply(readings)``."""
+        return self.calibration().apply(readings)
 
     def table(self) -> str:
         """The three terms per axis with their 95 % intervals, as text."""
@@ -283,4 +321,5 @@ def allan(x, fs: float, *, units: str = "rad/s", max_cluster_fraction: float = 0
         mean=arr.mean(axis=0),
         fs=fs,
         units=units,
+        n=n,
     )

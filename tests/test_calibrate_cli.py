@@ -121,3 +121,12 @@ def test_calibrate_acc_gyro_and_allan_from_a_file(tmp_path):
     np.testing.assert_allclose(doc["gyroscope"]["offset"], bias_g, atol=5e-4)
     out = run(["calibrate", "allan", path])
     assert "ARW N" in out and "bias_noise_rest=" in out
+
+
+def test_an_output_that_is_no_calibration_file_is_refused(recording, tmp_path):
+    path, _ = recording
+    other = tmp_path / "other.json"
+    other.write_text('{"something": "else"}')
+    result = CliRunner().invoke(_build(), ["calibrate", "mag", str(path), "-o", str(other)])
+    assert result.exit_code == 1 and "not a strapdown calibration file" in result.output
+    assert json.loads(other.read_text()) == {"something": "else"}  # left as it was

@@ -77,7 +77,10 @@ def _fit_and_write(fit, path, output) -> None:
             "the field varies where it was turned; applying this fit may not help",
             err=True,
         )
-    _write(cal, output, path)
+    try:
+        _write(cal, output, path)
+    except (ValueError, OSError) as exc:  # an existing -o that is no calibration file, an unwritable folder
+        raise click.ClickException(str(exc)) from None
 
 
 _output = click.option("-o", "--output", type=click.Path(dir_okay=False), help="Calibration file (JSON).")

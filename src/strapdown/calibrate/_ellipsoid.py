@@ -4,9 +4,8 @@ Readings r of a constant-magnitude vector v seen in every direction lie on an el
 ``r = A v + b``, so ``|W (r - b)| = F`` with W A orthogonal.  Only W's symmetric positive-definite form can be
 found (a rotation after W changes nothing), ``W = (A Aᵀ)^(-1/2)``; it has 6 parameters, b has 3.
 
-1. Algebraic start (the classic linear fit of a quadric, e.g. Vasconcelos et al., IEEE TIM 60(6), 2011, §III;
-   Li & Griffiths 2004 without their constraint): ``xᵀQx + 2pᵀx = 1`` by linear least squares, centre
-   ``b = -Q⁻¹p``, ``W² = Q / (1 + bᵀQb)``.
+1. Algebraic start (the classic linear least-squares fit of a quadric; Li & Griffiths 2004 without their
+   ellipsoid constraint): ``xᵀQx + 2pᵀx = 1``, centre ``b = -Q⁻¹p``, ``W² = Q / (1 + bᵀQb)``.
 2. Maximum-likelihood refinement (Levenberg-Marquardt) of the geometric residual
    ``d_i = (|W(r_i - b)| - F) / |Wᵀu_i|`` with ``u_i = W(r_i - b)/|W(r_i - b)|``: to first order the distance of
    r_i from the ellipsoid, so for Gaussian noise of σ per axis the least-squares fit is the ML one and its
@@ -158,7 +157,7 @@ def refine(
             lam *= 10
         if not improved or np.all(np.abs(step) <= 1e-10 * (np.abs(theta) + 1e-12)):
             break
-    # Covariance of an M-estimator (Huber 1981, §7.6): σ_eff² (JᵀJ)⁻¹ with
+    # Covariance of an M-estimator (Huber, Robust Statistics, 1981, ch. 7): σ_eff² (JᵀJ)⁻¹ with
     # σ_eff² = scale² · Σψ(z)²/(n - p) / (mean ψ'(z))², z the residuals in robust scales; for the plain fit
     # (ψ(z) = z) this is the usual residual variance.  Sample weights enter J and the residuals as √s_i.
     rs = res * np.sqrt(s)

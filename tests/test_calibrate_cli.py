@@ -77,6 +77,15 @@ def test_calibrate_mag_then_estimate_true_north(recording, tmp_path):
     # uncorrected hard/soft iron bends the heading; calibrated and turned to true north it follows the truth
     assert heading_error(fixed, data) < 2.5 < 40 < heading_error(raw, data)
 
+    aligned = tmp_path / "aligned.json"
+    run(["calibrate", "mag", path, "-o", aligned, "--field-strength", "50", "--align-gyro"])
+    quality = json.loads(aligned.read_text())["calibrations"][0]["quality"]
+    # the simulated magnetometer is not turned against the gyro: only the non-symmetric soft iron's rotation
+    a = np.array([[1.15, 0.08, 0.0], [0.02, 0.9, -0.05], [0.0, 0.06, 1.05]])
+    u, _, vt = np.linalg.svd(a)  # A = (U Vᵀ)(V S Vᵀ): its rotation part U Vᵀ is what the gyro sees
+    expected = np.degrees(np.arccos((np.trace(u @ vt) - 1) / 2))
+    assert quality["gyro_alignment_deg"] == pytest.approx(expected, abs=0.3)
+
     magnetic = tmp_path / "magnetic.parquet"
     run(["estimate", path, "-o", magnetic, "--calibration", cal, "-q"])
     assert read_metadata(magnetic)["heading"] == "magnetic"

@@ -165,3 +165,34 @@ def test_warranted_only_when_the_fit_removes_most_of_the_norm_scatter():
     # a real hard and soft iron is worth correcting
     model = worst_model(rng)
     assert magnetometer(readings(model, 3000, rng)).quality["warranted"]
+
+
+def test_gyro_finds_the_rotation_the_field_alone_cannot():
+    """A magnetometer turned 5.4° against the gyro axes: the ellipsoid fit leaves the field turned by that much,
+    the gyro-aided fit puts it in the gyro's axes (the sensor's true body field, from the exact truth)."""
+    from strapdown import as_matrix, from_rotvec
+    from strapdown.quaternion import conjugate, rotate
+    from strapdown.simulate import ImuModel, MagneticField, RandomMotion, sample
+
+    turn = as_matrix(from_rotvec(np.radians([3.0, -2.0, 4.0])))
+    soft = turn @ np.array([[1.1, 0.05, 0.0], [0.05, 0.92, 0.03], [0.0, 0.03, 1.04]])
+    gyro = TriadModel(bias=np.radians([0.3, -0.2, 0.25]), noise_density=1e-4)
+    imu = ImuModel(gyro=gyro, mag=TriadModel(bias=[20.0, -10.0, 15.0], soft_iron=soft, noise_density=0.03))
+    motion = RandomMotion(duration=120.0, seed=4, rate_scale=1.5, bandwidth=0.3, acceleration_scale=0.3)
+    data = sample(motion, 100.0, imu=imu)
+    truth = rotate(conjugate(data.q_true[:-1]), np.broadcast_to(MagneticField().ned(), data.mag.shape))
+
+    def angle_rms(cal):
+        c = cal.apply(data.mag)
+        cos = np.sum(c * truth, axis=1) / np.linalg.norm(c, axis=1) / np.linalg.norm(truth, axis=1)
+        return np.degrees(np.sqrt(np.mean(np.arccos(np.clip(cos, -1, 1)) ** 2)))
+
+    field_only = magnetometer(data.mag, field_strength=50.0)
+    aided = magnetometer(data.mag, field_strength=50.0, gyr=data.gyro, fs=100.0, gyro_bias=gyro.bias)
+    expected = np.degrees(np.arccos((np.trace(turn) - 1) / 2))
+    assert angle_rms(field_only) == pytest.approx(expected, abs=1.5)
+    assert aided.quality["gyro_alignment_deg"] == pytest.approx(expected, abs=0.3)
+    assert angle_rms(aided) < 0.6  # the noise: 0.3 µT per sample of 50 µT is 0.34° per sample
+    np.testing.assert_allclose(aided.matrix @ imu.mag.matrix, np.eye(3), atol=6e-3)
+    with pytest.raises(ValueError, match="gyr has shape"):
+        magnetometer(data.mag, gyr=data.gyro[:10], fs=100.0)

@@ -94,6 +94,10 @@ def magnetometer(
     frame: str = "sensor",
     robust: bool = True,
     noise: float | None = None,
+    gyr=None,
+    fs: float | None = None,
+    gyro_bias=None,
+    window: float = 2.0,
 ) -> Calibration:
     """Fit hard and soft iron to magnetometer readings taken while the sensor turns in a steady field.
 
@@ -112,6 +116,18 @@ def magnetometer(
         Down-weight outliers (Huber); False gives the plain maximum-likelihood fit.
     noise : float, optional
         Known noise per axis and sample (µT); by default estimated from the residuals.
+    gyr : array_like, shape (N, 3), optional
+        Gyro readings of the same samples (rad/s, mean rate over the step that starts at each sample): the
+        rotation of the magnetometer axes onto the gyro's, which the field alone cannot show, is fitted too
+        (:mod:`strapdown.calibrate._alignment`), and the matrix becomes ``R W``: the calibrated field is in
+        the gyro's axes.  Needs ``fs``.
+    fs : float, optional
+        Sample rate, Hz (with ``gyr``).
+    gyro_bias : array_like, shape (3,), or Calibration, optional
+        The gyro's bias (rad/s), removed before integrating (e.g. :func:`gyroscope` at rest); a gyro
+        calibration's whole correction is applied.
+    window : float
+        Seconds over which the gyro is integrated at a time (its leftover bias drifts by bias x window).
 
     Returns
     -------
@@ -129,6 +145,8 @@ def magnetometer(
         * ``condition``: condition number of the scaled information matrix (large: poorly determined);
         * ``soft_iron_condition``: condition number of the matrix; ``outliers``: fraction of down-weighted
           samples (Huber weight < 0.5); ``samples``, ``iterations``;
+        * with ``gyr``: ``gyro_alignment_deg`` (the rotation R found) and ``alignment_residual_deg`` (rms
+          angle between the field turned by the gyro and as measured; the matrix sigmas do not include R's);
         * ``norm_scatter``, ``norm_scatter_raw``: standard deviation of the field magnitude after and before
           the calibration (µT, at the fitted scale), and ``warranted``: whether the fit cuts it more than
           threefold.  A field that varies in space, a disturbance or an already calibrated sensor leave a
@@ -157,6 +175,7 @@ def magnetometer(
     >>> bool(np.std(np.linalg.norm(cal.apply(m), axis=1)) < 0.3)     # the norm is constant within the noise
     True
     """
+    full = _v.as_float_array(m, "m", dtype=np.float64)
     r = _rows(m, "m")
     if len(r) < _MIN_SAMPLES:
         raise ValueError(f"m has {len(r)} readings; the magnetometer fit needs at least {_MIN_SAMPLES}")
@@ -229,6 +248,10 @@ def magnetometer(
         "samples": len(r),
         "iterations": fit.iterations,
     }
+    method = "ellipsoid: algebraic start, maximum-likelihood Levenberg-Marquardt" + (", Huber-robust" if robust else "")
+    if gyr is not None:
+        matrix = _align_to_gyro(full, offset, matrix, gyr, fs, gyro_bias, window, quality)
+        method += "; rotation onto the gyro axes"
     return Calibration(
         "magnetometer",
         offset=offset,
@@ -237,6 +260,25 @@ def magnetometer(
         offset_sigma=sigmas[:3],
         matrix_sigma=matrix_sigma,
         quality=quality,
-        method="ellipsoid: algebraic start, maximum-likelihood Levenberg-Marquardt"
-        + (", Huber-robust" if robust else ""),
+        method=method,
     )
+
+
+def _align_to_gyro(m, offset, matrix, gyr, fs, gyro_bias, window, quality) -> np.ndarray:
+    """``R W`` with R the rotation of the calibrated field onto the gyro's axes; figures into ``quality``."""
+    from ._alignment import align
+
+    g = _v.as_float_array(gyr, "gyr", dtype=np.float64)
+    if g.shape != m.shape:
+        raise ValueError(f"gyr has shape {g.shape}; it must match m, {m.shape} (one gyro sample per reading)")
+    _v.check_finite(g, "gyr")
+    if fs is None or not float(fs) > 0:
+        raise ValueError(f"fs is {fs}; the gyro alignment needs the sample rate (Hz)")
+    if isinstance(gyro_bias, Calibration):
+        g = gyro_bias.apply(g)
+    elif gyro_bias is not None:
+        g = g - _v.finite(gyro_bias, "gyro_bias", dtype=np.float64)
+    rot, residual = align((m - offset) @ matrix.T, g, float(fs), float(window))
+    quality["gyro_alignment_deg"] = float(np.degrees(np.arccos(np.clip((np.trace(rot) - 1) / 2, -1.0, 1.0))))
+    quality["alignment_residual_deg"] = float(np.degrees(residual))
+    return rot @ matrix

@@ -109,8 +109,14 @@ def command():
 @click.option("--lon", type=float, help="Longitude, degrees (with --lat).")
 @click.option("--date", help="Date (YYYY-MM-DD or decimal year), with --lat/--lon.")
 @click.option("--no-robust", is_flag=True, help="Plain maximum-likelihood fit (no outlier down-weighting).")
+@click.option(
+    "--align-gyro",
+    is_flag=True,
+    help="Also turn the magnetometer axes onto the gyro's (uses the gyro of INPUT and the gyroscope "
+    "calibration already in -o, if any, for its bias).",
+)
 @read_options
-def mag_command(path, output, field_strength, lat, lon, date, no_robust, **p):
+def mag_command(path, output, field_strength, lat, lon, date, no_robust, align_gyro, **p):
     """Hard and soft iron from INPUT, a recording that turns the sensor through all directions."""
     from ..calibrate import field, magnetometer
 
@@ -120,8 +126,17 @@ def mag_command(path, output, field_strength, lat, lon, date, no_robust, **p):
             if None in (lat, lon, date) or field_strength is not None:
                 raise ValueError("give --lat, --lon and --date together, instead of --field-strength")
             strength = float(field(latitude=lat, longitude=lon, date=date, degrees=True).strength)
-        _, data, axes = _read(path, p, ("mag",))
-        return magnetometer(data["mag"], field_strength=strength, robust=not no_robust, frame=axes)
+        rate, data, axes = _read(path, p, ("mag",) + (("gyro",) if align_gyro else ()))
+        gyro = {}
+        if align_gyro:
+            from pathlib import Path
+
+            from ..calibrate import load
+
+            target = Path(output) if output else Path(path).with_suffix(".calibration.json")
+            bias = load(target).get("gyroscope") if target.exists() else None
+            gyro = {"gyr": data["gyro"], "fs": rate, "gyro_bias": bias}
+        return magnetometer(data["mag"], field_strength=strength, robust=not no_robust, frame=axes, **gyro)
 
     _fit_and_write(fit, path, output)
 

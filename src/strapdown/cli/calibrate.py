@@ -88,7 +88,7 @@ _output = click.option("-o", "--output", type=click.Path(dir_okay=False), help="
 
 @click.group()
 def command():
-    """Fit sensor calibrations from a recording and write them to a JSON file for ``estimate --calibration``.
+    """Fit sensor calibrations from a recording and write them to a JSON file for estimate --calibration.
 
     \b
     Examples:

@@ -1,28 +1,12 @@
 """Bad input and impossible requests on the command line: one clear line, a non-zero exit, no traceback (issue 14)."""
 
-import os
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
+from conftest import strapdown_cli
 from strapdown.io import write_table
 
-
-def run(*args, cwd=None):
-    # another working folder: a relative PYTHONPATH (PYTHONPATH=src) must still find the package
-    env = dict(os.environ)
-    if env.get("PYTHONPATH"):
-        env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env["PYTHONPATH"].split(os.pathsep))
-    return subprocess.run(
-        [sys.executable, "-m", "strapdown.cli", *map(str, args)],
-        capture_output=True,
-        text=True,
-        timeout=180,
-        cwd=cwd,
-        env=env,
-    )
+run = strapdown_cli
 
 
 def refused(*args, code=None, cwd=None):

@@ -31,7 +31,6 @@ import numpy as np
 
 from ._files import scratch_dir
 from .integrate import AttitudeIntegrator, integrate
-from .io import writers
 from .io.conventions import time_metadata
 from .io.imu import ImuColumns, ImuFile, _TimeCheck
 from .io.pipeline import (
@@ -674,8 +673,7 @@ def _concatenate(files: Sequence[str], output: Path, fmt: str, chunk_rows: int, 
         from ._files import atomic_path
 
         with atomic_path(output) as tmp, open(tmp, "wb") as dst:
-            if writers._CSV_COMMENTS:
-                dst.write(csv_comments(meta).encode())
+            dst.write(csv_comments(meta).encode())
             for i, f in enumerate(files):
                 with open(f, "rb") as src:
                     header = src.readline()

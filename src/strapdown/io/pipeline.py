@@ -217,9 +217,21 @@ class _RowTimes:
         return everything[:m]
 
 
+def _inputs(path) -> list[Path]:
+    """The files of one recording: one path, or the list of several (one per sensor)."""
+    return [Path(p) for p in path] if isinstance(path, list | tuple) else [Path(path)]
+
+
 def _output_path(path, output, command: str, format: str | None) -> Path:
-    out = Path(output) if output is not None else default_output(path, command, format)
-    if path is not None and out.resolve() == Path(path).resolve():
+    inputs = [] if path is None else _inputs(path)
+    if output is not None:
+        out = Path(output)
+    elif len(inputs) > 1:  # one file per sensor: the output is named after their folder, beside them
+        folder = inputs[0].parent
+        out = default_output(folder / f"{folder.resolve().name or 'recording'}.csv", command, format)
+    else:
+        out = default_output(path, command, format)
+    if any(out.resolve() == p.resolve() for p in inputs):
         raise ValueError(f"the output {out} is the input file; choose another output (-o)")
     return out
 
@@ -314,7 +326,7 @@ def integrate_file(
                         run.write(seg, attitude_columns(t - run.t_first, q, out))
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
-        report = Report(Path(path), run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
+        report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(axes.describe())
         report.notes.extend(run.notes)
         report.outputs = run.outputs
@@ -382,6 +394,8 @@ def estimate_file(
     body: str | None = None,
     out_body: str | None = None,
     on_gap: str = "error",
+    calibration=None,
+    declination: float | None = None,
 ) -> Report:
     """Run an estimator of :data:`strapdown.evaluate.ESTIMATORS` over a file and write its attitudes, streaming.
 
@@ -422,6 +436,13 @@ def estimate_file(
         A time step over ``columns.max_gap`` sample periods: a ValueError (default); a new output file per
         segment (``<stem>-2.csv`` ...) with the estimator started afresh; or one file with the estimator
         started afresh after each gap and a ``segment`` column.
+    calibration : mapping of str to strapdown.calibrate.Calibration, optional
+        Calibrations by sensor (``"gyroscope"``, ``"accelerometer"``, ``"magnetometer"``, as
+        :func:`strapdown.calibrate.load` returns them), applied to the readings in their own axes before
+        anything else.
+    declination : float, optional
+        Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
+        The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
 
     Returns
     -------
@@ -483,7 +504,11 @@ def estimate_file(
             )
         axes = resolve_axes(imu, frame, body, out_body)
         use_mag = "mag" in imu.picks
+        from ..calibrate import _apply, to_true_north  # calibration and true north (strapdown.calibrate)
+
+        cal = _apply.by_sensor(calibration)
         meta = _metadata("estimate", estimator=estimator, mode="9D" if use_mag else "6D")
+        meta.update(_apply.heading_metadata(use_mag, declination, cal))
         meta.update(axes.metadata())
         meta.update(output_metadata(out, bias=cls.estimates_bias, flags=cls.reports_flags))
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
@@ -497,9 +522,10 @@ def estimate_file(
                     run.segment_of_estimator = seg
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
                 extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
-                mag_in = axes.rotate(chunk.mag) if use_mag else None
+                gyro, acc, mag = _apply.readings(cal, chunk.gyro, chunk.acc, chunk.mag if use_mag else None)
+                mag_in = axes.rotate(mag) if use_mag else None
                 try:
-                    e = est.update(axes.rotate(chunk.gyro), axes.rotate(chunk.acc), mag_in, **timing, **extra)
+                    e = est.update(axes.rotate(gyro), axes.rotate(acc), mag_in, **timing, **extra)
                 except ValueError as exc:  # the estimator's own words name its arrays, not the file
                     raise ValueError(f"{path}: {estimator} failed on {_rows(imu, chunk)}: {exc}") from None
                 lost = np.flatnonzero(~np.isfinite(e.q).all(axis=1))
@@ -518,8 +544,9 @@ def estimate_file(
                         warned = True
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
-                run.write(seg, attitude_columns(run.t(chunk), e.q, out, e.bias, e.flags, at_limit))
-        report = Report(Path(path), run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
+                q = e.q if declination is None else to_true_north(e.q, declination, frame=axes.frame)
+                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit))
+        report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
         report.notes.extend(run.notes)
         report.outputs = run.outputs
@@ -943,7 +970,16 @@ def simulate_file(
         rate_hz=rate,
         gyro_input=data.gyro_input,
         reference=reference,
-        body=body,
+        frame=reference.upper(),  # the truth's, and the name every reader of frames looks for
+        body=body.upper(),
+        quaternion="w,x,y,z scalar first, Hamilton, body to frame (qw_true..qz_true)",
+        time_unit="s",
+        time_origin="0",
+        time_origin_unit="s",
+        time_origin_kind="file",
+        gyro_unit=gyro_unit,
+        acc_unit=acc_unit,
+        mag_unit=mag_unit,
         imu=imu,
         seed=seed,
     )

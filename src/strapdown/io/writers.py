@@ -59,8 +59,7 @@ class TableWriter:
         if self.format == "csv":
             self._sink = open(self.path, "wb")
             text = io.StringIO()
-            if _CSV_COMMENTS:
-                text.write(csv_comments(self.metadata))
+            text.write(csv_comments(self.metadata))
             csv.writer(text, lineterminator="\n").writerow(self.names)
             self._sink.write(text.getvalue().encode())
         elif self.format == "parquet":
@@ -85,6 +84,7 @@ class TableWriter:
     def _write_csv(self, columns) -> None:
         pc = need("pyarrow.csv", "writing CSV files")
         # booleans as 0 and 1, which every CSV reader takes for numbers (Arrow would write true and false)
+        columns = {n: np.asarray(v) for n, v in columns.items()}
         columns = {n: v.view(np.uint8) if v.dtype == bool else v for n, v in columns.items()}
         pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
 
@@ -131,7 +131,6 @@ class TableWriter:
         self._sink = None
 
 
-_CSV_COMMENTS = False  # TODO(h-cli): on once the CSV reader skips "# key: value" lines (branch h-io)
 _QUAT = ("qw", "qx", "qy", "qz")
 _MATLAB_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
 

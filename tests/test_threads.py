@@ -1,0 +1,103 @@
+"""The parallel policy's decisions (strapdown._threads): settings, free cores, the size threshold, and results
+that do not depend on the thread count.  Decisions only: no elapsed time is measured here."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import pytest
+
+from strapdown import AttitudeIntegrator, integrate
+from strapdown import _threads as th
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [(None, None), ("", None), ("auto", None), (" AUTO ", None), ("1", 1), (" 12 ", 12), (3, 3), (np.int64(2), 2)],
+)
+def test_parse_accepts(value, expected):
+    assert th.parse(value) == expected
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "two", "1.5", "4 threads", 0, -1, 2.0, True])
+def test_parse_rejects_naming_the_setting(value):
+    with pytest.raises(ValueError, match=r"STRAPDOWN_THREADS must be a positive integer or 'auto', got"):
+        th.parse(value)
+
+
+def test_bad_environment_variable_is_an_error_naming_it(monkeypatch):
+    monkeypatch.setenv("STRAPDOWN_THREADS", "lots")
+    with pytest.raises(ValueError, match=r"STRAPDOWN_THREADS.*'lots'"):
+        th.choose(10**7)
+
+
+def test_bad_threads_argument_is_refused_at_construction():
+    with pytest.raises(ValueError, match="threads must be a positive integer or 'auto', got 0"):
+        AttitudeIntegrator("exact", threads=0)
+
+
+@pytest.mark.parametrize(
+    ("cores", "others", "free"), [(2, 0, 2), (2, 1, 1), (2, 2, 1), (2, 7, 1), (8, 2.4, 6), (8, 2.6, 5), (4, 0.0, 4)]
+)
+def test_free_cores_is_cores_less_running_tasks_at_least_one(cores, others, free):
+    assert th.free_cores(cores, others) == free
+
+
+def test_free_cores_without_load_information_counts_every_core(monkeypatch):
+    monkeypatch.setattr(th, "_running_others", lambda: None)
+    assert th.free_cores(6) == 6
+
+
+def test_running_others_excludes_this_task(monkeypatch, tmp_path):
+    fake = tmp_path / "loadavg"
+    fake.write_text("0.50 0.40 0.30 3/120 4242\n")
+    real_open = open
+    monkeypatch.setattr("builtins.open", lambda p, *a, **k: real_open(fake if p == "/proc/loadavg" else p, *a, **k))
+    assert th._running_others() == 2  # three running, one of them us
+
+
+def test_size_threshold_and_caps(monkeypatch):
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    limit = numba.get_num_threads()
+    per = th.MIN_SAMPLES_PER_THREAD
+    assert th.choose(per - 1, 64) == 1  # too short for a second thread whatever was asked
+    assert th.choose(2 * per, 64) == min(2, limit)
+    assert th.choose(100 * per, 64) == limit  # never more than numba's thread count
+    assert th.choose(100 * per, available=1) == 1  # a busy machine: one thread
+    assert th.choose(100 * per, 1) == 1
+
+
+def test_environment_variable_sets_the_count_and_argument_overrides_it(monkeypatch):
+    per = th.MIN_SAMPLES_PER_THREAD
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 16)
+    monkeypatch.setattr(th, "free_cores", lambda: 16)
+    monkeypatch.setenv("STRAPDOWN_THREADS", "3")
+    assert th.choose(100 * per) == 3
+    assert th.choose(100 * per, 5) == 5
+    assert th.choose(100 * per, "auto") == 16  # an explicit "auto" ignores the environment
+    monkeypatch.setenv("STRAPDOWN_THREADS", "auto")
+    monkeypatch.setattr(th, "free_cores", lambda: 4)
+    assert th.choose(100 * per) == 4
+
+
+def test_claim_gives_one_thread_while_another_kernel_runs():
+    with th.claim(2) as first:
+        with th.claim(2) as second:
+            assert second == 1  # the second caller runs the serial build instead of oversubscribing
+    assert first == min(2, numba.config.NUMBA_NUM_THREADS)
+    with th.claim(1) as only:
+        assert only == 1
+
+
+@pytest.mark.parametrize("method", ["exact", "first-order", "cayley"])
+def test_threads_one_is_bit_identical_to_threads_n(method, rng):
+    # long enough for several tiles and for two threads to be chosen
+    n = 5 * th.MIN_SAMPLES_PER_THREAD + 12345
+    g = rng.standard_normal((n, 3))
+    one = integrate(g, 0.005, method=method, threads=1)
+    many = integrate(g, 0.005, method=method, threads=2)
+    assert one.tobytes() == many.tobytes()
+    seq = integrate(g, 0.005, method=method, parallel=False)
+    # and both are the sequential loop's attitudes to rounding (an independent computation)
+    dots = np.abs(np.sum(one * seq, axis=-1))
+    assert (1 - dots).max() < 1e-12

@@ -101,3 +101,18 @@ def test_threads_one_is_bit_identical_to_threads_n(method, rng):
     # and both are the sequential loop's attitudes to rounding (an independent computation)
     dots = np.abs(np.sum(one * seq, axis=-1))
     assert (1 - dots).max() < 1e-12
+
+
+def test_batch_jobs_default_to_one_thread_unless_told(monkeypatch):
+    from strapdown.batch import _one_thread
+
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 8)
+    monkeypatch.setattr(th, "free_cores", lambda: 8)
+    n = 100 * th.MIN_SAMPLES_PER_THREAD
+    assert th.choose(n) == 8  # outside a batch job: every free core
+    assert _one_thread(lambda _: th.choose(n), None) == 1  # a job in a worker: one thread
+    assert _one_thread(lambda _: th.choose(n, 4), None) == 4  # threads= still wins
+    monkeypatch.setenv("STRAPDOWN_THREADS", "3")
+    assert _one_thread(lambda _: th.choose(n), None) == 3  # and so does the environment
+    assert th.choose(n) == 3

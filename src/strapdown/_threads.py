@@ -34,8 +34,8 @@ time in a process: a second Python thread that arrives meanwhile runs the serial
 oversubscribing the cores.
 
 Dask and process pools.  :func:`strapdown.batch.run_batch` runs one file per worker process; the parallelism
-is across files, so each worker is given one numba thread (``STRAPDOWN_THREADS=1`` in its environment) unless
-the user set ``STRAPDOWN_THREADS`` already.
+is across files, so each job runs with one numba thread (:func:`worker_default`) unless ``threads=`` or
+``STRAPDOWN_THREADS`` says otherwise (set it in the workers' environment to change that).
 """
 
 from __future__ import annotations
@@ -43,8 +43,9 @@ from __future__ import annotations
 import numbers
 import os
 import threading
+from contextlib import contextmanager
 
-__all__ = ["ENV", "MIN_SAMPLES_PER_THREAD", "choose", "free_cores", "parse", "prepare_layer"]
+__all__ = ["ENV", "MIN_SAMPLES_PER_THREAD", "choose", "claim", "free_cores", "parse", "prepare_layer", "worker_default"]
 
 ENV = "STRAPDOWN_THREADS"
 
@@ -53,6 +54,7 @@ ENV = "STRAPDOWN_THREADS"
 MIN_SAMPLES_PER_THREAD = 1 << 16
 
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
+_local = threading.local()
 _layer_ready = False
 
 
@@ -171,12 +173,39 @@ def choose(n: int, threads=None, *, available: int | None = None) -> int:
     import numba
 
     prepare_layer()  # numba.get_num_threads() starts the thread pool, and with it the layer
-    count = parse(threads, "threads") if threads is not None else parse(os.environ.get(ENV))
+    if threads is not None:
+        count = parse(threads, "threads")
+    elif os.environ.get(ENV, "").strip():
+        count = parse(os.environ[ENV])
+    else:
+        count = getattr(_local, "default", None)  # a batch worker's default (worker_default), else auto
     limit = numba.get_num_threads()
     if available is None:
         available = free_cores() if count is None else count
     by_size = max(n // MIN_SAMPLES_PER_THREAD, 1)
     return int(max(1, min(available, limit, by_size)))
+
+
+@contextmanager
+def worker_default(count: int | None):
+    """Within the block, on this thread: ``count`` threads where neither ``threads=`` nor the environment says.
+
+    :mod:`strapdown.batch` runs each job in ``worker_default(1)``: with one file per worker the cores are
+    already shared out across files, and numba threads in every worker would oversubscribe them.
+
+    Examples
+    --------
+    >>> from strapdown._threads import choose, worker_default
+    >>> with worker_default(1):
+    ...     choose(10**8)
+    1
+    """
+    previous = getattr(_local, "default", None)
+    _local.default = parse(count, "count")
+    try:
+        yield
+    finally:
+        _local.default = previous
 
 
 def prepare_layer() -> None:

@@ -47,3 +47,16 @@ def test_error_in_the_block_stops_the_thread_and_writes_nothing(tmp_path):
             raise RuntimeError("halfway")
     assert not path.exists()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_background_copies_so_the_caller_may_reuse_its_buffer(tmp_path, monkeypatch):
+    monkeypatch.setattr(writers, "ROW_GROUP_ROWS", 4)
+    path = tmp_path / "reuse.parquet"
+    buf = np.empty((3, 2))
+    with table_writer(path) as w:  # background by default
+        for k in range(6):
+            buf[:] = k
+            w.write({"a": buf[:, 0], "b": buf[:, 1]})  # strided views of one reused buffer
+    table = pq.read_table(path)
+    np.testing.assert_array_equal(table["a"].to_numpy(), np.repeat(np.arange(6.0), 3))
+    np.testing.assert_array_equal(table["b"].to_numpy(), np.repeat(np.arange(6.0), 3))

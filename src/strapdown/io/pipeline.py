@@ -282,7 +282,7 @@ def integrate_file(
             rate=imu.rate,
         )
         meta = _metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame)
-        with table_writer(output, out.format, meta, background=True) as w:
+        with table_writer(output, out.format, meta) as w:
             for t, q in stream:
                 w.write(attitude_columns(t, q, out))
         return Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
@@ -396,7 +396,7 @@ def estimate_file(
         est = cls(p, q0=q0, frame=frame.upper())
         use_mag = "mag" in imu.picks
         meta = _metadata("estimate", estimator=estimator, frame=frame.upper(), mode="9D" if use_mag else "6D")
-        with table_writer(output, out.format, meta, background=True) as w:
+        with table_writer(output, out.format, meta) as w:
             for chunk in _chunks_with_progress(imu, chunk_rows, progress):
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
                 e = est.update(chunk.gyro, chunk.acc, chunk.mag if use_mag else None, **timing, **chunk.extra)
@@ -564,7 +564,7 @@ def convert_file(
         wanted = ([tname] if tname else []) + list(fields)
         done = 0
         meta = _metadata("convert", source=source, target=target)
-        with table_writer(output, out_format, meta, background=True) as w:
+        with table_writer(output, out_format, meta) as w:
             for _, cols in src.chunks(wanted, chunk_rows):
                 values = cols[fields[0]] if len(fields) == 1 else np.column_stack([cols[f] for f in fields])
                 converted = convert_values(values, source, target, angles_in, angles_out)

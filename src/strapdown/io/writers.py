@@ -27,7 +27,7 @@ __all__ = ["TableWriter", "table_writer", "write_table"]
 class TableWriter:
     """Appends chunks of named columns to one file; the first chunk fixes the columns.  Use :func:`table_writer`."""
 
-    def __init__(self, path: Path, format: str, metadata: Mapping[str, str] | None = None, background: bool = False):
+    def __init__(self, path: Path, format: str, metadata: Mapping[str, str] | None = None, background: bool = True):
         self.path = Path(path)
         self.target = self.path  # the file named in messages (table_writer writes to a temporary beside it)
         self.format = format
@@ -36,10 +36,11 @@ class TableWriter:
         self.rows = 0
         self._sink = None
         self._parts: dict[str, list] = {}
-        # Parquet: batches are gathered into row groups of at least ROW_GROUP_ROWS (a one-row first chunk does
+        # Parquet: chunks are gathered into row groups of at least ROW_GROUP_ROWS (a one-row first chunk does
         # not make a one-row group) and, with `background`, encoded and written by a thread of their own while
-        # the caller computes the next chunk (pyarrow releases the GIL); the caller then must not change arrays
-        # it has passed to write().
+        # the caller computes the next chunk (pyarrow releases the GIL).  write() keeps a contiguous copy of
+        # each column (which the Arrow conversion needs anyway for strided ones), so the caller may reuse its
+        # arrays at once.
         self._group: list = []
         self._group_rows = 0
         self._behind = _Behind() if background and format == "parquet" else None
@@ -90,6 +91,8 @@ class TableWriter:
         pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
 
     def _write_parquet(self, columns) -> None:
+        if self._behind is not None:
+            columns = {n: np.array(v, order="C", copy=True) for n, v in columns.items()}
         self._group.append(columns)
         self._group_rows += len(next(iter(columns.values())))
         if self._group_rows >= ROW_GROUP_ROWS:
@@ -200,7 +203,7 @@ def _batch(columns: Mapping[str, np.ndarray]):
 
 @contextmanager
 def table_writer(
-    path, format: str | None = None, metadata: Mapping[str, str] | None = None, *, background: bool = False
+    path, format: str | None = None, metadata: Mapping[str, str] | None = None, *, background: bool = True
 ) -> Iterator[TableWriter]:
     """A :class:`TableWriter` on a temporary file that replaces ``path`` when the block succeeds.
 
@@ -213,8 +216,8 @@ def table_writer(
     metadata : mapping of str to str, optional
         Stored with the table: Parquet schema metadata, HDF5 root attributes, MATLAB variables.
     background : bool
-        Parquet: encode and write in a background thread, overlapping the caller's next chunk.  The arrays
-        given to ``write`` must then stay unchanged after the call (fresh arrays per chunk).
+        Parquet: encode and write in a background thread, overlapping the caller's next chunk (default).  Each
+        ``write`` copies its columns first, so the caller may change its arrays after the call.
 
     Yields
     ------

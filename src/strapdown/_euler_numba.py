@@ -1,6 +1,7 @@
 """Numba kernels for :mod:`strapdown.euler` (private).
 
-Both kernels work on validated, C-contiguous rows and compute in float64 whatever the storage type.
+Both kernels work on validated, C-contiguous rows and compute in float64 whatever the storage type;
+``as_euler_rows`` releases the GIL (it runs per chunk in the file pipelines, beside the background writer).
 """
 
 from __future__ import annotations
@@ -173,7 +174,7 @@ def _finish_row(out, n, middle, half_sum, half_diff, low, high, proper, sign, in
         out[n, 2] = gamma
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def as_euler_rows(q, i, j, k, proper, sign, intrinsic, scale, single, out):
     """Euler angles of the *extrinsic* sequence (i, j, i) or (i, j, k) by the direct half-angle method.
 

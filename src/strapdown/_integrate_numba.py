@@ -4,7 +4,8 @@ exact, first-order, second-order and cayley all update ``q_{k+1} = q_k ⊗ m(φ_
 depends on the step's rotation vector φ_k alone, so the attitudes are prefix products of independent factors.
 Two kernels compute them: a sequential loop (the reference, and the streaming path, bit-identical under any
 chunking) and a blocked prefix scan (within rounding of the sequential one), built twice: in parallel and on
-one thread, with the same result (:mod:`strapdown._threads` chooses).
+one thread, with the same result (:mod:`strapdown._threads` chooses).  The entry kernels release the GIL
+(``nogil``), so that other Python threads (the background Parquet writer, a threaded Dask worker) run meanwhile.
 
 Every kernel computes in float64 whatever the storage type, and reads φ_k = g[k] · h[k·hstep] · scale, so the same
 code serves rates with a scalar or per-step dt, interval averages and increments (h = 1), in rad or deg.
@@ -245,7 +246,7 @@ def _chain(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, norm_mode, norm_ev
     return w, x, y, z, c
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out):
     """q[b] ← q[b] ⊗ m(φ_k) for k in the chunk, writing each new attitude to out[b, k].
 
@@ -332,23 +333,18 @@ def _scan_offsets(start_att, n_blocks, unit, fix_mode):
 
 @nb.njit(cache=True, error_model="numpy")
 def _scan_rotate(bounds, blk, unit, fix_mode, start_att, out):
-    """Phase 3, one block: rotate it by its start attitude (block 0: only normalise), normalising with `unit`."""
-    lo = bounds[blk]
-    hi = bounds[blk + 1]
-    if blk == 0:
-        if unit:
-            for k in range(lo, hi):
-                rw, rx, ry, rz = renormalize(fix_mode, out[k, 0], out[k, 1], out[k, 2], out[k, 3])
-                out[k, 0] = rw
-                out[k, 1] = rx
-                out[k, 2] = ry
-                out[k, 3] = rz
+    """Phase 3, one block: rotate it by its start attitude (block 0 by the identity), normalising with `unit`.
+
+    Block 0 is already absolute: without `unit` there is nothing to do; with it, the product by the identity
+    changes no value (finite inputs) and the outputs are only normalised.
+    """
+    if blk == 0 and not unit:
         return
-    sw = start_att[blk, 0]
-    sx = start_att[blk, 1]
-    sy = start_att[blk, 2]
-    sz = start_att[blk, 3]
-    for k in range(lo, hi):
+    if blk == 0:
+        sw, sx, sy, sz = 1.0, 0.0, 0.0, 0.0
+    else:
+        sw, sx, sy, sz = start_att[blk, 0], start_att[blk, 1], start_att[blk, 2], start_att[blk, 3]
+    for k in range(bounds[blk], bounds[blk + 1]):
         rw, rx, ry, rz = qmul(sw, sx, sy, sz, out[k, 0], out[k, 1], out[k, 2], out[k, 3])
         if unit:
             rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
@@ -373,7 +369,7 @@ def _scan_modes(kind, unit):
     return fix_mode, chain_norm
 
 
-@nb.njit(cache=True, parallel=True, error_model="numpy")
+@nb.njit(cache=True, parallel=True, nogil=True, error_model="numpy")
 def scan(g, h, hstep, scale, kind, unit, q, out):
     """Parallel prefix product of the step quaternions of one body: out[k] = q ⊗ m(φ_0) ⊗ ... ⊗ m(φ_k).
 
@@ -401,7 +397,7 @@ def scan(g, h, hstep, scale, kind, unit, q, out):
             q[i] = out[stop - 1, i]
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def scan_serial(g, h, hstep, scale, kind, unit, q, out):
     """:func:`scan` on the calling thread alone, bit for bit (the same blocks, in order; no thread pool).
 

@@ -116,3 +116,15 @@ def test_batch_jobs_default_to_one_thread_unless_told(monkeypatch):
     monkeypatch.setenv("STRAPDOWN_THREADS", "3")
     assert _one_thread(lambda _: th.choose(n), None) == 3  # and so does the environment
     assert th.choose(n) == 3
+
+
+def test_concurrent_calls_from_python_threads_agree_bit_for_bit(rng):
+    from concurrent.futures import ThreadPoolExecutor
+
+    n = 4 * th.MIN_SAMPLES_PER_THREAD + 777
+    gyros = [rng.standard_normal((n, 3)) for _ in range(4)]
+    alone = [integrate(g, 0.005, threads=1) for g in gyros]
+    with ThreadPoolExecutor(4) as pool:  # one may hold the parallel kernel, the others run the serial build
+        together = list(pool.map(lambda g: integrate(g, 0.005, threads=2), gyros))
+    for a, b in zip(alone, together, strict=True):
+        assert a.tobytes() == b.tobytes()

@@ -309,26 +309,24 @@ def _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start
     start_att[blk + 1, 3] = tz
 
 
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _rotate_row(sw, sx, sy, sz, rows, k, unit, fix_mode):
+    """rows[k] ← s ⊗ rows[k], normalised with `unit`."""
+    rw, rx, ry, rz = qmul(sw, sx, sy, sz, rows[k, 0], rows[k, 1], rows[k, 2], rows[k, 3])
+    if unit:
+        rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
+    rows[k, 0] = rw
+    rows[k, 1] = rx
+    rows[k, 2] = ry
+    rows[k, 3] = rz
+
+
 @nb.njit(cache=True, error_model="numpy")
 def _scan_offsets(start_att, n_blocks, unit, fix_mode):
     """Phase 2: start_att[b] ← the attitude at the end of block b-1 (block 0's end is already absolute)."""
     for blk in range(2, n_blocks):
-        tw, tx, ty, tz = qmul(
-            start_att[blk - 1, 0],
-            start_att[blk - 1, 1],
-            start_att[blk - 1, 2],
-            start_att[blk - 1, 3],
-            start_att[blk, 0],
-            start_att[blk, 1],
-            start_att[blk, 2],
-            start_att[blk, 3],
-        )
-        if unit:
-            tw, tx, ty, tz = renormalize(fix_mode, tw, tx, ty, tz)
-        start_att[blk, 0] = tw
-        start_att[blk, 1] = tx
-        start_att[blk, 2] = ty
-        start_att[blk, 3] = tz
+        p = start_att[blk - 1]
+        _rotate_row(p[0], p[1], p[2], p[3], start_att, blk, unit, fix_mode)
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -345,13 +343,7 @@ def _scan_rotate(bounds, blk, unit, fix_mode, start_att, out):
     else:
         sw, sx, sy, sz = start_att[blk, 0], start_att[blk, 1], start_att[blk, 2], start_att[blk, 3]
     for k in range(bounds[blk], bounds[blk + 1]):
-        rw, rx, ry, rz = qmul(sw, sx, sy, sz, out[k, 0], out[k, 1], out[k, 2], out[k, 3])
-        if unit:
-            rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
-        out[k, 0] = rw
-        out[k, 1] = rx
-        out[k, 2] = ry
-        out[k, 3] = rz
+        _rotate_row(sw, sx, sy, sz, out, k, unit, fix_mode)
 
 
 @nb.njit(cache=True, inline="always")

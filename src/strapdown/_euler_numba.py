@@ -50,6 +50,19 @@ def _at(value, target, single):
     return value == target
 
 
+@nb.njit(cache=True, inline="always")
+def _fold(angle, half, full, single):
+    """The outer angle as stored: rounded to float32 when `single`, and moved from -half to +half.
+
+    The kernel wraps in radians; the rounding to degrees or to float32 can land exactly on -180°, which the
+    output range (-180°, 180°] excludes.  The test and the addition are made in the output's type.
+    """
+    if single:
+        a = np.float32(angle)
+        return a + np.float32(full) if a <= np.float32(-half) else a
+    return angle + full if angle <= -half else angle
+
+
 # atan2 in a form LLVM can vectorise (libm's atan2 is a call per element, which is most of as_euler's time):
 # Cephes' atan (Moshier, "Methods and Programs for Mathematical Functions", 1989; cephes/cmath/atan.c), whose
 # rational approximation on [0, 0.66] has a peak relative error of 1.8e-16, after the octant reduction of atan2
@@ -146,7 +159,7 @@ def _half_angles(m, a_, b_, c_, d_, middle, half_sum, half_diff):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
-def _finish_row(out, n, middle, half_sum, half_diff, low, high, proper, sign, intrinsic, scale, single):
+def _finish_row(out, n, middle, half_sum, half_diff, low, high, proper, sign, intrinsic, scale, single, half, full):
     """The gimbal-lock rule, the outer angles, wrapping and units of one row (see :func:`as_euler_rows`).
 
     Written with selects rather than branches: the wrap of a random angle is a branch the CPU cannot predict.
@@ -161,8 +174,8 @@ def _finish_row(out, n, middle, half_sum, half_diff, low, high, proper, sign, in
     if not proper:
         gamma = gamma * sign
     # +0.0 turns a -0.0 (from 0 * -1) into +0.0
-    alpha = _wrap(alpha) * scale + 0.0
-    gamma = _wrap(gamma) * scale + 0.0
+    alpha = _fold(_wrap(alpha) * scale + 0.0, half, full, single)
+    gamma = _fold(_wrap(gamma) * scale + 0.0, half, full, single)
     middle = middle * scale
     if intrinsic:
         out[n, 0] = gamma
@@ -175,7 +188,7 @@ def _finish_row(out, n, middle, half_sum, half_diff, low, high, proper, sign, in
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def as_euler_rows(q, i, j, k, proper, sign, intrinsic, scale, single, out):
+def as_euler_rows(q, i, j, k, proper, sign, intrinsic, scale, single, half, full, out):
     """Euler angles of the *extrinsic* sequence (i, j, i) or (i, j, k) by the direct half-angle method.
 
     Derivation (math.md §3.2; Bernardes & Viollet, PLoS ONE 2022).  For the extrinsic proper sequence
@@ -193,7 +206,8 @@ def as_euler_rows(q, i, j, k, proper, sign, intrinsic, scale, single, out):
     third angle is set to 0 and the first one carries the whole rotation.
 
     For an intrinsic sequence the caller passes the reversed axes; the triple is then reversed on output.
-    Angles are multiplied by `scale` (1 for radians, 180/π for degrees) on output.
+    Angles are multiplied by `scale` (1 for radians, 180/π for degrees) on output.  An outer angle that the
+    rounding to degrees or float32 puts at -`half` (-180° or -π in the output's type) is moved to +`half`.
     """
     if proper:
         low = 0.0
@@ -214,4 +228,6 @@ def as_euler_rows(q, i, j, k, proper, sign, intrinsic, scale, single, out):
         _half_angles(stop - start, a_, b_, c_, d_, mid_, hs_, hd_)
         for r in range(stop - start):
             middle = 2.0 * mid_[r] + low
-            _finish_row(out, start + r, middle, hs_[r], hd_[r], low, high, proper, sign, intrinsic, scale, single)
+            _finish_row(
+                out, start + r, middle, hs_[r], hd_[r], low, high, proper, sign, intrinsic, scale, single, half, full
+            )

@@ -125,6 +125,9 @@ class TableWriter:
         """
         if self.names is None:
             raise ValueError(f"nothing was written to {self.target}: no columns were given")
+        if self.format == "parquet" and self._sink is not None:
+            self._flush_group()  # the last row group
+            self._stop_background(errors=True)  # raises the first error of a background write
         if self.format == "mat":
             sio = need("scipy.io", "writing MATLAB files")
             data = {n: np.concatenate(self._parts[n]) for n in self.names}
@@ -134,20 +137,13 @@ class TableWriter:
             with open(self.path, "wb") as f:
                 sio.savemat(f, data, oned_as="column")
         elif self._sink is not None:
-            if self.format == "parquet":
-                self._flush_group()
-                if self._behind is not None:
-                    self._behind.drain()  # raises the first error of a background write
             self._sink.close()
         self._sink = None
 
-    def _abandon(self) -> None:
-        """After an error: stop background writes (their errors no longer matter) and release the file."""
+    def _stop_background(self, errors: bool = False) -> None:
+        """Wait for the background writes; raise the first error of one with `errors` (after an error, not)."""
         if self._behind is not None:
-            self._behind.drain(errors=False)
-        if self._sink is not None:
-            self._sink.close()
-            self._sink = None
+            self._behind.drain(errors=errors)
 
 
 #: Rows gathered into one Parquet row group: 2^18 rows of 8 float64 columns make 2 MiB column chunks, large
@@ -247,7 +243,9 @@ def table_writer(
             yield writer
             writer.close()
         finally:
-            writer._abandon()  # after an error inside the block: release the file before it is deleted
+            writer._stop_background()  # after an error in the block: no background write may still use the file
+            if writer._sink is not None:  # an error inside the block: release the file before it is deleted
+                writer._sink.close()
 
 
 def write_table(path, columns: Mapping[str, np.ndarray], format: str | None = None, metadata=None) -> Path:

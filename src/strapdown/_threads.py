@@ -170,20 +170,21 @@ def choose(n: int, threads=None, *, available: int | None = None) -> int:
     >>> choose(1000, 8), choose(10 * MIN_SAMPLES_PER_THREAD, 1)
     (1, 1)
     """
-    import numba
-
-    prepare_layer()  # numba.get_num_threads() starts the thread pool, and with it the layer
     if threads is not None:
         count = parse(threads, "threads")
     elif os.environ.get(ENV, "").strip():
         count = parse(os.environ[ENV])
     else:
         count = getattr(_local, "default", None)  # a batch worker's default (worker_default), else auto
-    limit = numba.get_num_threads()
     if available is None:
         available = free_cores() if count is None else count
     by_size = max(n // MIN_SAMPLES_PER_THREAD, 1)
-    return int(max(1, min(available, limit, by_size)))
+    if min(available, by_size) <= 1:
+        return 1  # decided without numba.get_num_threads(), which would start the thread pool for nothing
+    import numba
+
+    prepare_layer()  # numba.get_num_threads() starts the thread pool, and with it the layer
+    return int(max(1, min(available, numba.get_num_threads(), by_size)))
 
 
 @contextmanager

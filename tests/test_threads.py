@@ -128,3 +128,85 @@ def test_concurrent_calls_from_python_threads_agree_bit_for_bit(rng):
         together = list(pool.map(lambda g: integrate(g, 0.005, threads=2), gyros))
     for a, b in zip(alone, together, strict=True):
         assert a.tobytes() == b.tobytes()
+
+
+class _Machine:
+    """A fake run: part() advances a fake clock by the cost per sample of the thread count it was given."""
+
+    def __init__(self, cost):
+        self.cost = cost  # {threads: seconds per sample}
+        self.now = 0.0
+        self.calls = []
+
+    def clock(self):
+        return self.now
+
+    def part(self, t, lo, hi):
+        self.calls.append((t, lo, hi))
+        self.now += self.cost[t] * (hi - lo)
+
+
+@pytest.fixture
+def busy_two_cores(monkeypatch):
+    """Two cores, the run queue full (auto chooses 1), a fresh verdict, claim granting what is asked."""
+    from contextlib import contextmanager
+
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    monkeypatch.setattr(th, "_cores", lambda: 2)
+    monkeypatch.setattr(th, "_running_others", lambda: 3)
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
+    monkeypatch.setattr(th, "_verdict", [1, -np.inf])
+
+    @contextmanager
+    def grant(t):
+        yield t
+
+    monkeypatch.setattr(th, "claim", grant)
+
+
+@pytest.mark.parametrize(("cost", "rest"), [({1: 3.0, 2: 1.0}, 2), ({1: 1.0, 2: 3.0}, 1)])
+def test_busy_machine_probes_and_finishes_on_the_faster(busy_two_cores, cost, rest):
+    m = _Machine(cost)
+    p = th.PROBE_SAMPLES
+    n = 10 * p + 5
+    th.run(n, None, m.part, clock=m.clock)
+    assert m.calls == [(1, 0, p), (2, p, 2 * p), (rest, 2 * p, n)]
+    # a short call soon after reuses the verdict; once it is stale, the run queue decides again (one thread)
+    m.calls.clear()
+    th.run(p, None, m.part, clock=m.clock)
+    assert m.calls == [(rest, 0, p)]
+    m.now += th.PROBE_VALID_S + 1.0
+    m.calls.clear()
+    th.run(p, None, m.part, clock=m.clock)
+    assert m.calls == [(1, 0, p)]
+
+
+def test_probe_pieces_are_tile_aligned():
+    from strapdown._integrate_numba import SCAN_TILE
+
+    assert th.PROBE_SAMPLES % SCAN_TILE == 0  # pieces start on tile edges: the same bits as one call
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_setting_is_never_second_guessed(busy_two_cores, threads):
+    m = _Machine({1: 1.0, 2: 1.0})
+    n = 10 * th.PROBE_SAMPLES
+    th.run(n, threads, m.part, clock=m.clock)
+    assert m.calls == [(threads, 0, n)]
+
+
+def test_free_machine_runs_in_one_call_on_every_core(busy_two_cores, monkeypatch):
+    monkeypatch.setattr(th, "_running_others", lambda: 0)
+    m = _Machine({1: 1.0, 2: 1.0})
+    n = 10 * th.PROBE_SAMPLES
+    th.run(n, None, m.part, clock=m.clock)
+    assert m.calls == [(2, 0, n)]
+
+
+def test_auto_with_a_probe_gives_the_bits_of_one_thread(rng, monkeypatch):
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    monkeypatch.setattr(th, "_running_others", lambda: 8)  # busy: the call probes (when there are two cores)
+    n = 3 * th.PROBE_SAMPLES + 4321
+    g = rng.standard_normal((n, 3))
+    dt = rng.uniform(0.001, 0.01, n)  # per-step durations: the pieces slice them too
+    assert integrate(g, dt).tobytes() == integrate(g, dt, threads=1).tobytes()

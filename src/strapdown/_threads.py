@@ -19,6 +19,12 @@ still limit it) and by the size: each thread must get at least :data:`MIN_SAMPLE
 which waking it costs more than it saves.  One thread means the serial build of the same kernel: no thread
 pool is touched at all.
 
+4. A quick measure when the run queue says busy (auto mode only, :func:`run`): the run queue cannot tell
+   whether more threads would still win, and on an oversubscribed machine they sometimes do (the scheduler
+   shares time per thread), sometimes lose.  So a long call times its first :data:`PROBE_SAMPLES` samples
+   on the count above and the next ones on every core, and finishes on the faster; a verdict serves later
+   short calls for :data:`PROBE_VALID_S` seconds.  The worse setting costs at most one probe.
+
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
 function of the size alone) and the threads only share out the blocks, so ``threads=1`` and ``threads=8``
 give bit-identical attitudes.
@@ -40,12 +46,25 @@ is across files, so each job runs with one numba thread (:func:`worker_default`)
 
 from __future__ import annotations
 
+import math
 import numbers
 import os
 import threading
+import time
 from contextlib import contextmanager
 
-__all__ = ["ENV", "MIN_SAMPLES_PER_THREAD", "choose", "claim", "free_cores", "parse", "prepare_layer", "worker_default"]
+__all__ = [
+    "ENV",
+    "MIN_SAMPLES_PER_THREAD",
+    "PROBE_SAMPLES",
+    "choose",
+    "claim",
+    "free_cores",
+    "parse",
+    "prepare_layer",
+    "run",
+    "worker_default",
+]
 
 ENV = "STRAPDOWN_THREADS"
 
@@ -53,6 +72,12 @@ ENV = "STRAPDOWN_THREADS"
 #: on a sleeping OpenMP worker is tens of microseconds; 2^16 samples take about 1 ms on one core).
 MIN_SAMPLES_PER_THREAD = 1 << 16
 
+#: Samples in each probe of :func:`run` (four tiles of the scan: about 5 ms on one core).
+PROBE_SAMPLES = 1 << 18
+#: Seconds a probe's verdict is reused by calls too short to probe (the chunks of a file pipeline).
+PROBE_VALID_S = 2.0
+
+_verdict = [1, -math.inf]  # threads, and the clock time until which that verdict stands
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
 _local = threading.local()
 _layer_ready = False
@@ -170,12 +195,7 @@ def choose(n: int, threads=None, *, available: int | None = None) -> int:
     >>> choose(1000, 8), choose(10 * MIN_SAMPLES_PER_THREAD, 1)
     (1, 1)
     """
-    if threads is not None:
-        count = parse(threads, "threads")
-    elif os.environ.get(ENV, "").strip():
-        count = parse(os.environ[ENV])
-    else:
-        count = getattr(_local, "default", None)  # a batch worker's default (worker_default), else auto
+    count = _setting(threads)
     if available is None:
         available = free_cores() if count is None else count
     by_size = max(n // MIN_SAMPLES_PER_THREAD, 1)
@@ -185,6 +205,65 @@ def choose(n: int, threads=None, *, available: int | None = None) -> int:
 
     prepare_layer()  # numba.get_num_threads() starts the thread pool, and with it the layer
     return int(max(1, min(available, numba.get_num_threads(), by_size)))
+
+
+def _setting(threads) -> int | None:
+    """The thread count the caller, the environment or a batch worker asks for; None for the policy."""
+    if threads is not None:
+        return parse(threads, "threads")
+    if os.environ.get(ENV, "").strip():
+        return parse(os.environ[ENV])
+    return getattr(_local, "default", None)  # a batch worker's default (worker_default), else auto
+
+
+def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
+    """Process n samples as ``part(t, lo, hi)`` (t threads on samples lo..hi), the count chosen by the policy.
+
+    With a setting (``threads=``, ``STRAPDOWN_THREADS``, a batch worker), or when the run queue shows every
+    useful core free, this is one call with :func:`choose`'s count.  On a machine the run queue calls busy,
+    auto mode measures instead of guessing: the first :data:`PROBE_SAMPLES` on :func:`choose`'s count (one
+    thread), the next on every core, and the rest on whichever took less time (the quick measure of the module
+    notes); the verdict serves later calls too short to probe for :data:`PROBE_VALID_S` seconds.  The pieces
+    start at multiples of PROBE_SAMPLES, a multiple of the scan's tile, so the result has the same bits as one
+    call, whatever the verdict.
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    threads : int, str or None
+        The caller's ``threads=``.
+    part : callable
+        ``part(t, lo, hi)`` processes samples [lo, hi) on t threads, in order (each piece continues the last).
+    clock : callable
+        Seconds (for tests).
+    """
+    chosen = choose(n, threads)
+    most = chosen
+    if _setting(threads) is None and chosen < _cores() and n >= 2 * MIN_SAMPLES_PER_THREAD:
+        import numba
+
+        prepare_layer()
+        most = max(1, min(_cores(), numba.get_num_threads(), n // MIN_SAMPLES_PER_THREAD))
+    if most <= chosen:  # told, or every useful core is free: nothing to measure
+        with claim(chosen) as t:
+            part(t, 0, n)
+        return
+    now = clock()
+    if n < 3 * PROBE_SAMPLES:  # too short to probe: the last verdict while it is fresh
+        with claim(_verdict[0] if now < _verdict[1] else chosen) as t:
+            part(t, 0, n)
+        return
+    times = []
+    for count, lo in ((chosen, 0), (most, PROBE_SAMPLES)):
+        with claim(count) as t:
+            start = clock()
+            part(t, lo, lo + PROBE_SAMPLES)
+            times.append((clock() - start, t))
+    best = min(times)[1]
+    with claim(best) as t:
+        part(t, 2 * PROBE_SAMPLES, n)
+    _verdict[:] = [best, clock() + PROBE_VALID_S]  # from the end of this call
 
 
 @contextmanager

@@ -520,9 +520,13 @@ class AttitudeIntegrator:
             )
         if use_scan:
             q = st.q[0].copy()
-            with _threads.claim(_threads.choose(n, self.threads)) as threads:
+
+            def part(threads, lo, hi):  # samples lo..hi, continuing from q; tile-aligned pieces: the same bits
                 kernel = k.scan if threads > 1 else k.scan_serial
-                kernel(g[0], h, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0])
+                hs = h[lo:hi] if hstep else h
+                kernel(g[0, lo:hi], hs, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0, lo:hi])
+
+            _threads.run(n, self.threads, part)
             st.q[0] = q
             st.counter = 0
         else:

@@ -18,6 +18,7 @@ hold across the cuts, and the first fault in the file is the one reported.
 
 from __future__ import annotations
 
+import functools
 import glob
 import itertools
 import os
@@ -186,6 +187,9 @@ class _Runner:
     def map(self, fn, items: Sequence) -> Iterator[tuple[int, object]]:
         """Yield (index, result) as results come in; a result is an exception when the call raised."""
         items = list(items)
+        workers = min(self.workers or os.cpu_count() or 1, len(items))
+        if self._client is not None or workers > 1:
+            fn = functools.partial(_one_thread, fn)  # the parallelism is across files (strapdown._threads)
         if self._client is not None:
             from distributed import as_completed
 
@@ -197,7 +201,6 @@ class _Runner:
                 except Exception as exc:  # a lost worker: the item failed, the others go on
                     yield index[fut.key], exc
             return
-        workers = min(self.workers or os.cpu_count() or 1, len(items))
         if workers <= 1:
             for i, item in enumerate(items):
                 try:
@@ -221,6 +224,14 @@ class _Runner:
                 yield futures[fut], fut.result()
             except Exception as exc:
                 yield futures[fut], exc
+
+
+def _one_thread(fn, item):
+    """fn(item) with one numba thread unless ``threads=`` or ``STRAPDOWN_THREADS`` says otherwise."""
+    from ._threads import worker_default
+
+    with worker_default(1):
+        return fn(item)
 
 
 def run_batch(

@@ -179,13 +179,10 @@ def as_euler(
     scale = 180.0 / np.pi if degrees else 1.0
     from ._euler_numba import as_euler_rows
 
-    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, out)
     full = out.dtype.type(360.0 if degrees else 2 * np.pi)
     half = out.dtype.type(180.0 if degrees else np.pi)
-    # The kernel wraps in radians; rounding to degrees or float32 can land exactly on -180°: fold it back.
-    for col in (0, 2):
-        angle = out[:, col]
-        angle[angle <= -half] += full
+    # the kernel also folds -180° (from the rounding to degrees or float32) to +180°, in the output's type
+    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, float(half), float(full), out)
     if yaw_range == "positive":
         angle = out[:, 0 if intrinsic else 2]
         angle[angle < 0] += full

@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import _threads
 from . import _validate as _v
 
 __all__ = ["METHODS", "AttitudeIntegrator", "SingularityError", "integrate"]
@@ -159,9 +160,14 @@ class AttitudeIntegrator:
     normalize_every : int
         Steps between renormalisations.
     parallel : bool, optional
-        Use the two-core prefix-product scan for exact, cayley, and first/second-order with exact
+        Use the blocked prefix-product scan for exact, cayley, and first/second-order with exact
         normalisation every step (or none).  ``None``: for single-body chunks of 32768 samples or more.  The
-        scan equals the sequential loop to rounding (1e-12 rad over 10⁷ steps), not bit for bit.
+        scan equals the sequential loop to rounding (1e-12 rad over 10⁷ steps), not bit for bit, and gives the
+        same bits on any number of threads.
+    threads : int or "auto", optional
+        Threads of the scan.  None: the ``STRAPDOWN_THREADS`` environment variable, else ``"auto"``, the cores
+        free right now (one on a busy machine, never more than the size pays for).  See
+        docs/guide/performance.md and :mod:`strapdown._threads`.
     scheme : {"rk4", "euler"}
         Integrator of the baselines' differential equations.
     orthonormalize : bool
@@ -200,6 +206,7 @@ class AttitudeIntegrator:
         normalize: str = "exact",
         normalize_every: int = 1,
         parallel: bool | None = None,
+        threads: int | str | None = None,
         scheme: str = "rk4",
         orthonormalize: bool = False,
         on_singular: str = "raise",
@@ -220,6 +227,8 @@ class AttitudeIntegrator:
             raise ValueError(f"normalize_every must be a positive integer, got {normalize_every!r}")
         self.normalize_every = int(normalize_every)
         self.parallel = parallel
+        _threads.parse(threads, "threads")  # validated now; "auto" and None are decided per call
+        self.threads = threads
         self.scheme = _v.choice(scheme, "scheme", ("rk4", "euler"))
         self.orthonormalize = bool(orthonormalize)
         self.on_singular = _v.choice(on_singular, "on_singular", ("raise", "nan", "warn"))
@@ -510,21 +519,14 @@ class AttitudeIntegrator:
                 "normalize='none'"
             )
         if use_scan:
-            import numba
-
             q = st.q[0].copy()
-            k.scan(
-                g[0],
-                h,
-                hstep,
-                self.scale,
-                kind,
-                unit and norm != k.NORM_NONE,
-                q,
-                out[0],
-                65536,
-                numba.get_num_threads(),
-            )
+
+            def part(threads, lo, hi):  # samples lo..hi, continuing from q; tile-aligned pieces: the same bits
+                kernel = k.scan if threads > 1 else k.scan_serial
+                hs = h[lo:hi] if hstep else h
+                kernel(g[0, lo:hi], hs, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0, lo:hi])
+
+            _threads.run(n, self.threads, part)
             st.q[0] = q
             st.counter = 0
         else:
@@ -758,8 +760,8 @@ def integrate(
     degrees : bool
         Samples in degrees.
     **options
-        ``normalize``, ``normalize_every``, ``parallel``, ``scheme``, ``orthonormalize``, ``on_singular``,
-        ``singular_tol``: see :class:`AttitudeIntegrator`.
+        ``normalize``, ``normalize_every``, ``parallel``, ``threads``, ``scheme``, ``orthonormalize``,
+        ``on_singular``, ``singular_tol``: see :class:`AttitudeIntegrator`.
 
     Returns
     -------

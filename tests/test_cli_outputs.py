@@ -267,6 +267,11 @@ def test_a_phone_export_given_as_its_files_or_its_folder_lies_flat(tmp_path):
     library_flu = change_frame(q_rfu, body_from="RFU", body_to="FLU")
     ok("estimate", *files, "-o", tmp_path / "files.parquet")
     ok("estimate", folder, "-o", tmp_path / "folder.parquet")
+    ok("estimate", folder, "-o", tmp_path / "folder.mat")
+    import scipy.io
+
+    # the epoch in ns is past float64's 2**53: a MATLAB file keeps it exact, as text
+    assert str(scipy.io.loadmat(tmp_path / "folder.mat")["time_origin"][0]) == str(sim.EPOCH_NS)
     for name in ("files", "folder"):
         table = read_table(tmp_path / f"{name}.parquet")
         late = table["t"] > table["t"][-1] - 1.0

@@ -544,9 +544,9 @@ ON_GAP = ("error", "split", "restart")
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:
     axis = "xyz"[int(np.argmax(np.abs(bias)))]
     return (
-        f"warning: the gyro bias estimate reached its limit bias_limit = {np.degrees(limit):.3g} deg/s on the "
-        f"{axis} axis at t = {t:.6g} s ({where}), and is clipped there (the bias_at_limit column says where): the "
-        "gyro's bias may be larger (raise -p bias_limit_deg_s=...), or its readings in another unit (--gyro-unit)"
+        f"warning: the gyro bias estimate reached bias_limit = {np.degrees(limit):.3g} deg/s on the {axis} axis at "
+        f"t = {t:.6g} s ({where}); the bias_at_limit column says where.  A bias that large is beyond what the "
+        "estimator assumes of the sensor: check the gyro's unit (--gyro-unit), or raise -p bias_limit_deg_s=..."
     )
 
 

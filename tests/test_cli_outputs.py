@@ -126,6 +126,18 @@ def test_t_counts_from_the_first_sample_and_the_origin_is_stored(tmp_path):
     assert meta["angle_unit"] == "deg" and meta["bias_unit"] == "deg/s"
 
 
+def test_integer_epoch_nanoseconds_become_seconds_from_the_first_sample_with_the_epoch_kept(tmp_path):
+    # the silent failure of issue 12: epoch ns taken as seconds gave t up to 2e11 and meaningless attitudes
+    n, t0 = 300, 1_718_030_736_872_695_300
+    lines = ["time,gx,gy,gz"] + [f"{t0 + k * 10_000_000},0,0,{np.pi / 2!r}" for k in range(n)]  # 100 Hz, 90 deg/s
+    (tmp_path / "ns.csv").write_text("\n".join(lines) + "\n")
+    ok("integrate", tmp_path / "ns.csv", "-o", tmp_path / "att.parquet")
+    table, meta = read_table(tmp_path / "att.parquet"), read_metadata(tmp_path / "att.parquet")
+    np.testing.assert_allclose(table["t"], np.arange(n) * 0.01, rtol=0, atol=1e-12)
+    assert table["yaw_deg"][-1] == pytest.approx(90.0 * 2.99, abs=1e-9)
+    assert (meta["time_origin"], meta["time_origin_unit"], meta["time_origin_kind"]) == (str(t0), "ns", "epoch")
+
+
 def test_every_output_format_carries_frame_body_and_units(tmp_path):
     src = write_table(tmp_path / "a.parquet", still(200))
     for suffix in ("parquet", "h5", "mat"):

@@ -327,7 +327,10 @@ def integrate_file(
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
-        report.notes.append(axes.describe())
+        if frame is None:
+            report.notes.append(f"attitude of the {axes.body} axes relative to themselves at t = 0 (turned by q0)")
+        else:
+            report.notes.append(axes.describe())
         report.notes.extend(run.notes)
         report.outputs = run.outputs
         return report
@@ -576,7 +579,7 @@ class _Segments:
             if self.splitter is not None and self.splitter.gaps:
                 listing = "; ".join(f"{a:.6g} s -> {b:.6g} s" for a, b in self.splitter.gaps[:5])
                 more = f" and {len(self.splitter.gaps) - 5} more" if len(self.splitter.gaps) > 5 else ""
-                how = "a file per segment" if self.on_gap == "split" else "started afresh after each"
+                how = "a file per segment" if self.on_gap == "split" else "started afresh after each gap"
                 self.notes.append(f"{len(self.splitter.gaps)} gap(s) ({how}): {listing}{more}")
         return self._stack.__exit__(*exc)
 

@@ -405,3 +405,11 @@ def test_evaluate_grid_takes_degrees_with_the_unit_in_the_name(tmp_path):
 
     assert numbers(deg) and numbers(deg) == pytest.approx(numbers(rad), rel=1e-9)
     assert "not an angle" in run("evaluate", tmp_path, "-g", "tau_acc_deg=1,2").stderr
+
+
+def test_an_integration_of_a_px4_log_plots_against_its_own_attitude(tmp_path):
+    # an integration's reference is its own start: no frames to check, but the truth is still put on its rows
+    ok("integrate", PX4_LOG, "-o", tmp_path / "int.parquet", "--max-gap", "0")
+    res = ok("plot", tmp_path / "int.parquet", "--truth", PX4_LOG, "--out", tmp_path / "fig")
+    assert "not checked" in res.stderr and "interpolated" in res.stderr
+    assert (tmp_path / "fig" / "int_errors.png").read_bytes()[:4] == b"\x89PNG"

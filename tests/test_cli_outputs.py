@@ -111,6 +111,17 @@ def test_bad_axes_are_refused_with_the_option_named(tmp_path):
     src = write_table(tmp_path / "a.csv", still(50))
     res = run("estimate", src, "--body", "FRU")
     assert res.returncode == 1 and "--body FRU" in res.stderr and "left-handed" in res.stderr
+    res = run("estimate", src, "--frame", "NUE")  # z east: no frame for a tilt from gravity
+    assert res.returncode == 2 and "--frame" in res.stderr and "up (U) or down (D)" in res.stderr
+
+
+def test_any_vertical_frame_is_taken(tmp_path):
+    # a level FRD drone facing north in "west, south, up" axes (z up): level, and yaw -90, F pointing along -y
+    src = write_table(tmp_path / "a.parquet", still(300))
+    ok("estimate", src, "-o", tmp_path / "wsu.parquet", "--body", "FRD", "--frame", "wsu")
+    table, meta = read_table(tmp_path / "wsu.parquet"), read_metadata(tmp_path / "wsu.parquet")
+    assert abs(table["roll_deg"][-1]) < 0.1 and abs(table["pitch_deg"][-1]) < 0.1
+    assert abs(signed(table["yaw_deg"][-1] + 90.0)) < 0.5 and (meta["frame"], meta["body"]) == ("WSU", "FLU")
 
 
 # ------------------------------------------------------------------------------------------------ time and metadata

@@ -287,7 +287,7 @@ def frame_options(f, *, integrate: bool = False):
         else "Reference frame of the output (default: the format's preset, e.g. NED for a PX4 log; else ENU)."
     )
     opts = [
-        click.option("--frame", type=click.Choice(FRAMES, case_sensitive=False), help=frame_help),
+        click.option("--frame", metavar="|".join(FRAMES) + "|...", callback=_frame, help=frame_help),
         click.option(
             "--body",
             metavar="AXES",
@@ -303,6 +303,24 @@ def frame_options(f, *, integrate: bool = False):
     for opt in reversed(opts):
         f = opt(f)
     return f
+
+
+def _frame(ctx, param, value):
+    """A reference frame with a vertical z axis (the estimators' need): ENU, NED, NWU, ESU..., upper case."""
+    import click
+
+    if value is None:
+        return None
+    from ..frames import frame_matrix
+
+    frame = value.upper()
+    try:
+        m = frame_matrix(frame, "NED")
+    except ValueError as exc:
+        raise click.BadParameter(str(exc).replace("src=", "")) from None
+    if abs(m[2, 2]) != 1.0:
+        raise click.BadParameter(f"{frame}: its z axis must be up (U) or down (D), as in ENU, NED, NWU")
+    return frame
 
 
 def input_formats():

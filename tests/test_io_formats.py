@@ -79,6 +79,7 @@ def test_px4_vehicle_at_rest_shows_the_tilt_its_own_estimator_logged(log):
     data = read_imu(log, options(log), optional=("acc",))
     ref = read_reference(log)
     assert (ref.frame, ref.body) == ("NED", "FRD")
+    assert ref.time_origin == ImuFile(log, options(log)).time_origin  # one time line for IMU and reference
     est = AttitudeEstimator(frame="NED").update(data.gyro, data.acc, t=data.t)
     keep = (ref.t > 2.0) & (ref.t <= data.t[-1])  # after the estimators' start-up
     rows = np.searchsorted(data.t, ref.t[keep])
@@ -165,6 +166,15 @@ def test_sensor_logger_export_folder_or_zip_lying_flat(tmp_path, as_zip):
     assert np.isnan(got.mag[1::2]).all() and not np.isnan(got.mag[::2]).any()
     pitch, roll = level_angles(got, imu.frame)
     assert pitch < 2.0 and roll < 2.0
+
+
+def test_one_sensor_logger_file_alone_is_read_as_its_sensor(tmp_path):
+    data = sim.phone_at_rest(duration=3.0)
+    gyro = sim.sensor_logger(tmp_path / "e", data) / "Gyroscope.csv"
+    imu = ImuFile(gyro)
+    assert imu.picks["gyro"].fields == ("x", "y", "z") and imu.units["time"] == "ns"
+    assert (imu.frame, imu.body) == ("ENU", "RFU")
+    np.testing.assert_allclose(read_imu(gyro).gyro, data.gyro, rtol=1e-15)
 
 
 def test_sensor_logger_without_gravity_is_refused_as_linear_acceleration(tmp_path):

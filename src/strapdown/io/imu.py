@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
+from .formats.multi import kind_of_file
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
 from .units import check_gravity_sign, check_gyro_at_rest, check_plausible, parse_unit, scale
@@ -212,7 +213,9 @@ class ImuFile:
             elif kind in self.source.presets:
                 pick = Pick(tuple(self.source.presets[kind]))
             else:
-                pick = detect_vector(kind, fields, units=self.source.units)
+                # bare x, y, z columns count for the sensor a file is named after (Gyroscope.csv)
+                bare = self.source.format == "csv" and kind_of_file(self.path.name) == kind
+                pick = detect_vector(kind, fields, units=self.source.units, bare=bare)
             if pick is None:
                 if kind in require:
                     raise ValueError(

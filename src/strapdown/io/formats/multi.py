@@ -30,7 +30,7 @@ __all__ = ["Stream", "kind_of_file", "merge_streams", "open_files", "read_stream
 _NAMES = {
     "gyro": re.compile(r"gyr|rotationrate|angular", re.IGNORECASE),
     "acc": re.compile(r"acc|specificforce", re.IGNORECASE),
-    "mag": re.compile(r"mag|compass", re.IGNORECASE),
+    "mag": re.compile(r"magnet|(^|[^a-z])mag|compass", re.IGNORECASE),  # not "Image"
 }
 _PER_S = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
 #: Largest total size of the files taken out of one zip, bytes (a zip bomb stops here).
@@ -53,8 +53,10 @@ def kind_of_file(name: str) -> str | None:
     Examples
     --------
     >>> from strapdown.io.formats.multi import kind_of_file
-    >>> kind_of_file("Gyroscope.csv"), kind_of_file("TotalAcceleration.csv"), kind_of_file("notes.csv")
-    ('gyro', 'acc', None)
+    >>> kind_of_file("Gyroscope.csv"), kind_of_file("TotalAcceleration.csv"), kind_of_file("imu_mag.csv")
+    ('gyro', 'acc', 'mag')
+    >>> kind_of_file("UncalibratedMagnetometer.csv"), kind_of_file("Image.csv"), kind_of_file("notes.csv")
+    ('mag', None, None)
     """
     found = [k for k, pattern in _NAMES.items() if pattern.search(Path(name).stem)]
     return found[0] if len(found) == 1 else None

@@ -111,3 +111,54 @@ def test_batch_jobs_carry_absolute_paths(tmp_path):
     assert res.returncode == 0, res.stderr
     written = [line.split()[1] for line in res.stdout.splitlines() if line.startswith("written:")]
     assert written == [str(tmp_path / "out" / "a.estimate.parquet")]
+
+
+def broad_trial(folder, rate=100.0, quat=None, n=300):
+    """A BROAD-layout trial of a level sensor at rest, with exact truth (the identity): simulated, not BROAD's."""
+    import scipy.io
+
+    folder.mkdir(parents=True, exist_ok=True)
+    fields = {"imu_gyr": np.zeros((n, 3)), "imu_acc": np.tile([0.0, 0.0, 9.81], (n, 1))}
+    fields.update(imu_mag=np.tile([20.0, 0.0, -40.0], (n, 1)), movement=np.ones((n, 1)), sampling_rate=rate)
+    fields["opt_quat"] = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)) if quat is None else quat
+    scipy.io.savemat(folder / "t1.mat", fields)
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("rate", "trials_json", "words"),
+    [
+        (np.zeros((0, 1)), None, "sampling_rate must be one number of Hz, got []"),
+        ("abc", None, "sampling_rate must be one number of Hz"),
+        (-1.0, None, "sampling_rate must be a positive number of Hz, got -1.0"),
+        (100.0, "[1, 2]", "trials.json must hold a JSON object"),
+        (100.0, '{"trials": [1, 2]}', "'trials' must map each trial name"),
+        (100.0, '{"trials": {"t1": {"groups": "fast"}}}', "the groups of trial 't1' must be a list"),
+        (100.0, '{"groups": ["fast"]}', "'groups' must be a list of objects with a 'name'"),
+        (100.0, "{", "trials.json is not valid JSON"),
+    ],
+)
+def test_evaluate_names_a_bad_trial_file(tmp_path, rate, trials_json, words):
+    folder = broad_trial(tmp_path / "broad", rate=rate)
+    if trials_json is not None:
+        (folder / "trials.json").write_text(trials_json)
+    err = refused("evaluate", folder, code=2)
+    assert words in err
+    assert ("t1.mat" in err) != (trials_json is not None)  # the file at fault, by name
+
+
+def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
+    from strapdown.broad import load_trials
+    from strapdown.evaluate import evaluate
+
+    # all-zero truth: every error would be NaN; the table printed NaN and the exit code was 0
+    err = refused("evaluate", broad_trial(tmp_path / "zero", quat=np.zeros((300, 4))), code=2)
+    assert "t1.mat: opt_quat row 1 of 300 is [0.0, 0.0, 0.0, 0.0]" in err
+    # all truth occluded (NaN) on the movement samples: nothing to score
+    err = refused("evaluate", broad_trial(tmp_path / "lost", quat=np.full((300, 4), np.nan)), code=2)
+    assert "no movement sample has a true attitude" in err
+    # trials built in code bypass the loader: the evaluation itself refuses a NaN score
+    trial = load_trials(broad_trial(tmp_path / "good"))[0]
+    trial.quat[:] = 0.0
+    with pytest.raises(ValueError, match="t1: the errors are NaN"):
+        evaluate("tilt", [trial])

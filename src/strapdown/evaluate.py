@@ -310,6 +310,12 @@ def evaluate(
         if q.shape != trial.quat.shape:
             raise ValueError(f"the estimator returned shape {q.shape} on {trial.name}; expected {trial.quat.shape}")
         e = rmse_errors(q, trial.quat, trial.movement, heading_offset=remove)
+        if not all(np.isfinite(v) for v in e.values()):
+            # a NaN score would rank nowhere and average everything it meets into NaN
+            raise ValueError(
+                f"{trial.name}: the errors are NaN ({', '.join(f'{k} {v:.3g}' for k, v in e.items())}): no movement "
+                "sample has both a finite estimate and a unit true attitude"
+            )
         r = TrialResult(trial.name, trial.groups, e["total"], e["heading"], e["inclination"], seconds)
         results.append(r)
         if progress is not None:

@@ -96,11 +96,18 @@ def test_convert_refuses_infinite_zero_and_absurd_input_naming_the_line(tmp_path
 
 
 def test_huge_readings_are_named_by_file_and_line_not_by_internal_arrays(tmp_path):
+    # one absurd reading passes the unit check (a percentile of the first rows) and failed later as "q[98, 0] is
+    # NaN" or "the step rotations overflow": the message must name the file, the line and the column
     src = write_table(tmp_path / "huge.csv", level(gx=(98, 1e300)))
-    err = refused("estimate", src, "--no-unit-check", "-o", tmp_path / "o.csv")
-    assert "huge.csv" in err and "line 100" in err and "q[" not in err
-    err = refused("integrate", src, "--no-unit-check", "-o", tmp_path / "o.csv")
-    assert "huge.csv" in err and "line" in err
+    err = refused("estimate", src, "-o", tmp_path / "o.csv")
+    assert "huge.csv: the attitude estimator lost the attitude at line 100, column gx = 1e+300 rad/s" in err
+    assert "q[" not in err
+    err = refused("integrate", src, "-o", tmp_path / "o.csv")
+    assert "huge.csv: the integration failed on lines 2 to 201" in err and "line 100, column gx = 1e+300" in err
+    src = write_table(tmp_path / "acc.parquet", level(ay=(150, 1e300)))
+    err = refused("estimate", src, "-e", "tilt", "-o", tmp_path / "o.csv")
+    assert "acc.parquet: the tilt estimator lost the attitude at row 150, column ay = 1e+300 m/s²" in err
+    assert not (tmp_path / "o.csv").exists()
 
 
 def test_batch_jobs_carry_absolute_paths(tmp_path):

@@ -506,9 +506,8 @@ def estimate_file(
                 if lost.size:
                     i = int(lost[0])
                     raise ValueError(
-                        f"{path}: the {estimator} estimator lost the attitude at {imu.where(chunk.row + i)} (gyro "
-                        f"{_triad(chunk.gyro[i])} rad/s, acc {_triad(chunk.acc, i)} m/s²): readings that large are "
-                        "not plausible; check that row and the units"
+                        f"{path}: the {estimator} estimator lost the attitude at {_culprit(imu, chunk, i)}: a "
+                        "reading that large is not plausible; check that row and the units"
                     )
                 at_limit = None
                 if limit and e.bias is not None:
@@ -613,19 +612,46 @@ class _Segments:
         self.rows += len(columns["t"])
 
 
-def _triad(v, i=None) -> str:
-    if v is None:
-        return "none"
-    v = v if i is None else v[i]
-    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+#: Readings of a common size in SI units, to find the one most out of scale: rad/s (or rad), m/s², µT.
+_TYPICAL = {"gyro": 1.0, "acc": 9.81, "mag": 50.0}
+_SI = {"gyro": "rad/s", "acc": "m/s²", "mag": "µT"}
+
+
+def _culprit(imu, chunk, row: int | None = None) -> str:
+    """The reading of a chunk (or of one of its rows) most out of scale, by line and column, for messages.
+
+    A non-finite reading comes first, then the largest relative to its quantity's usual size.  The unit check
+    looks at a percentile of the first rows, so one absurd value further on gets through it and fails in the
+    integrator or the filter, whose words name their own arrays: this names the file's line and column instead.
+    """
+    best = None
+    for kind, typical in _TYPICAL.items():
+        v = getattr(chunk, kind, None)
+        if v is None or kind not in imu.picks or not len(v):
+            continue
+        part = v if row is None else v[row : row + 1]
+        size = np.where(np.isfinite(part), np.abs(part) / typical, np.inf)
+        i, j = np.unravel_index(int(np.argmax(size)), size.shape)
+        if best is None or size[i, j] > best[0]:
+            best = (size[i, j], kind, i + (row or 0), j)
+    if best is None:
+        return "no reading"
+    _, kind, i, j = best
+    fields = imu.picks[kind].fields
+    column = fields[j] if len(fields) == 3 else f"{fields[0]}[{j}]"
+    unit = "rad" if kind == "gyro" and getattr(imu, "increments", False) else _SI[kind]
+    return f"{imu.where(chunk.row + i)}, column {column} = {getattr(chunk, kind)[i, j]:.4g} {unit}"
 
 
 def _rows(imu, chunk) -> str:
-    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file)."""
+    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file), and its worst reading."""
     if chunk is None:
         return "its first rows"
     first, last = imu.where(chunk.row), imu.where(chunk.row + len(chunk) - 1)
-    return f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the readings there are not plausible)"
+    return (
+        f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the reading most out of scale there: "
+        f"{_culprit(imu, chunk)})"
+    )
 
 
 def _slice(chunk, a: int, b: int):

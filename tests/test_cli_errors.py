@@ -169,3 +169,24 @@ def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
     trial.quat[:] = 0.0
     with pytest.raises(ValueError, match="t1: the errors are NaN"):
         evaluate("tilt", [trial])
+
+
+def test_scheduler_workers_find_relative_inputs(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    (tmp_path / "logs").mkdir()
+    write_table(tmp_path / "logs" / "a.parquet", level())
+    # the workers run in this process, whose working folder is not the command's: relative paths name nothing there
+    assert os.getcwd() != str(tmp_path)
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", host="127.0.0.1", dashboard_address=None
+    )
+    try:
+        address = cluster.scheduler_address
+        jobs = run("batch", "logs/*.parquet", "estimate", "--scheduler", address, "--out", "out", cwd=tmp_path)
+        split = run("batch", "logs/a.parquet", "integrate", "--split", "2", "--scheduler", address, cwd=tmp_path)
+    finally:
+        cluster.close()
+    assert jobs.returncode == 0, jobs.stderr
+    assert split.returncode == 0, split.stderr
+    assert (tmp_path / "out" / "a.estimate.parquet").is_file()
+    assert (tmp_path / "logs" / "a.integrate.parquet").is_file()

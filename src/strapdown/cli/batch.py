@@ -108,6 +108,8 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
             check_split(split, kwargs["method"], kwargs["input"])
     except ValueError as exc:
         raise click.UsageError(str(exc)) from None
+    # absolute paths: a Dask worker runs in its own working folder, where relative ones name nothing
+    files, outputs = [f.absolute() for f in files], [o.absolute() for o in outputs]
     if split:
         failed = 0
         for f, o in zip(files, outputs, strict=True):
@@ -122,8 +124,7 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
         if failed:
             raise click.ClickException(f"{failed} of {len(files)} files failed")
         return
-    # absolute paths: a Dask worker runs in its own working folder, where relative ones name nothing
-    jobs = [Job(command, str(f.absolute()), str(o.absolute()), kwargs) for f, o in zip(files, outputs, strict=True)]
+    jobs = [Job(command, str(f), str(o), kwargs) for f, o in zip(files, outputs, strict=True)]
     bar = Progress(quiet, unit="files")
     done = [0]
 

@@ -3,6 +3,7 @@
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -58,13 +59,41 @@ def not_a_folder(tmp_path):
     return blocker / "sub"
 
 
+@pytest.fixture()
+def read_only(tmp_path):
+    """A folder no one can create files in: /proc even for root (for whom os.access says yes), else a chmod 500."""
+    import tempfile
+
+    try:
+        with tempfile.TemporaryFile(dir="/proc"):
+            pass
+    except OSError:
+        return Path("/proc")
+    if os.geteuid() == 0:
+        pytest.skip("no folder here refuses root's writes")
+    folder = tmp_path / "ro"
+    folder.mkdir(mode=0o500)
+    return folder
+
+
+def test_outputs_in_a_read_only_folder_are_refused_before_computing(read_only, attitude_file, tmp_path):
+    # these wrote after the whole computation, into a hidden temp file: a traceback naming the temp
+    assert "cannot write into" in refused("compare", "--out", read_only / "cmp", code=2)
+    assert "cannot write into" in refused("demo", "--out", read_only / "demo", code=2)
+    assert "--csv" in refused("evaluate", tmp_path, "--csv", read_only / "rows.csv", code=2)
+    assert "OUTPUT" in refused("simulate", read_only / "sim.csv", code=2)
+    assert "--out" in refused("plot", attitude_file, "--out", read_only / "figs", code=2)
+
+
 def test_plot_max_points_zero(attitude_file):
     assert "--max-points" in refused("plot", attitude_file, "--max-points", "0", code=2)
 
 
 def test_simulate_refuses_an_impossible_size_before_allocating(tmp_path):
     err = refused("simulate", tmp_path / "big.parquet", "--rate", "1e12", code=2)
-    assert "rows" in err and "--rate" in err
+    assert "--rate" in err and "3e+13 samples" in err  # the default scenario lasts 30 s
+    err = refused("compare", "--rate", "1e12", code=2)
+    assert "--rate" in err and "3e+13 samples" in err
     assert not (tmp_path / "big.parquet").exists()
     assert "--rate" in refused("simulate", tmp_path / "x.csv", "--rate", "nan", code=2)
 

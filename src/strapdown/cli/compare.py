@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import flight_options, writable_folder
+from ._options import check_samples, flight_options, writable_folder
 
 
 @click.command()
@@ -21,13 +21,17 @@ def command(scenario, rate, gyro, imu, seed, methods, out):
       strapdown compare --scenario aerobatic-show --imu consumer --gyro average --out plots/
       strapdown compare --methods exact,rk4,euler-angles
     """
+    import math
+
     from .. import METHODS
     from ..compare import compare as run_compare
     from ..simulate import ImuModel, sample
     from ..simulate.scenarios import scenario as make
 
-    if not rate > 0:
-        raise click.BadParameter("must be positive", param_hint="--rate")
+    if not (math.isfinite(rate) and rate > 0):
+        raise click.BadParameter(f"a positive number of Hz, got {rate}", param_hint="--rate")
+    flight = make(scenario)
+    check_samples(rate, flight.duration)  # before sample() allocates them
     if out:
         writable_folder(out, "--out")  # before the computation, not after it
     chosen = None
@@ -39,9 +43,13 @@ def command(scenario, rate, gyro, imu, seed, methods, out):
                 f"unknown {', '.join(unknown)}; choose from {', '.join(METHODS)}", param_hint="--methods"
             )
     model = {"ideal": ImuModel.ideal, "consumer": ImuModel.consumer_mems, "tactical": ImuModel.tactical}[imu]()
-    data = sample(make(scenario), rate, gyro=gyro, imu=model, seed=seed)
+    data = sample(flight, rate, gyro=gyro, imu=model, seed=seed)
     result = run_compare(data, chosen, title=f"{scenario}, {imu} IMU, {gyro} gyro at {rate:g} Hz")
     click.echo(result.table())
     if out:
-        for path in result.plot(out, prefix=scenario.replace("-", "_")):
+        try:
+            written = result.plot(out, prefix=scenario.replace("-", "_"))
+        except OSError as exc:  # a full disk: checked writable, still not written
+            raise click.ClickException(f"cannot write the figures into {out}: {exc}") from None
+        for path in written:
             click.echo(f"written: {path}")

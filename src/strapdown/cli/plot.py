@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import input_argument
+from ._options import input_argument, writable_folder
 
 
 @click.command()
@@ -33,6 +33,8 @@ def command(path, truth, out, seq, radians, yaw_range, max_points):
     from ..io import Angles
     from ..io.plots import plot_file
 
+    if out:
+        writable_folder(out, "--out")
     try:
         written = plot_file(path, truth, out, angles=Angles(seq, not radians, yaw_range), max_points=max_points)
     except (ValueError, OSError, ImportError) as exc:

@@ -96,6 +96,9 @@ def test_simulate_refuses_an_impossible_size_before_allocating(tmp_path):
     assert "--rate" in err and "3e+13 samples" in err
     assert not (tmp_path / "big.parquet").exists()
     assert "--rate" in refused("simulate", tmp_path / "x.csv", "--rate", "nan", code=2)
+    # numpy's "expected non-negative integer" (a traceback in compare) named no option
+    assert "--seed" in refused("compare", "--seed", "-1", code=2)
+    assert "--seed" in refused("simulate", tmp_path / "x.csv", "--seed", "-1", code=2)
 
 
 def test_compare_and_demo_check_their_output_folder_before_computing(not_a_folder):

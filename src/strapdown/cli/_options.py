@@ -132,7 +132,9 @@ def flight_options(gyro_option: str, gyro_default: str):
             show_default=True,
             help="Errors.",
         ),
-        click.option("--seed", default=0, show_default=True, help="Seed of the sensor errors."),
+        click.option(
+            "--seed", default=0, show_default=True, type=click.IntRange(min=0), help="Seed of the sensor errors."
+        ),
     ]
 
     def apply(f):

@@ -127,6 +127,28 @@ def test_convert_refuses_infinite_zero_and_absurd_input_naming_the_line(tmp_path
     assert "zero quaternion" in refused("convert", "--from", "quat", "0", "0", "0", "0", code=2)
 
 
+def test_convert_takes_quaternions_of_any_scale_and_names_refused_rows(tmp_path):
+    # the norm of (1e300, 1e300, 0, 0) overflows and that of (1e-320, 0, 0, 0) underflows: they were called zero
+    # quaternions; both are attitudes (a quarter turn about x, the identity), whatever their scale
+    for numbers, roll in ((["1e300", "1e300", "0", "0"], 90.0), (["1e-320", "0", "0", "0"], 0.0)):
+        res = run("convert", "--from", "quat", *numbers, "--to", "euler", "--degrees")
+        assert res.returncode == 0, res.stderr
+        np.testing.assert_allclose([float(x) for x in res.stdout.split()], [0.0, 0.0, roll], atol=1e-12)
+    # a row the library refuses is named by the file's line, not by the library's array index ("c[0]")
+    rows = ["1,0,0,0,1,0,0,0,1", "1,0,0,0,1,0,0,0,1", "1,0,0,0,1,0,0,0,2"]
+    src = tmp_path / "m.csv"
+    src.write_text("t," + ",".join(f"c{i}{j}" for i in range(1, 4) for j in range(1, 4)) + "\n")
+    with src.open("a") as f:
+        f.writelines(f"{k * 0.1},{r}\n" for k, r in enumerate(rows))
+    err = refused("convert", src, "--from", "matrix", "--columns", "c11,c12,c13,c21,c22,c23,c31,c32,c33", "-o",
+                  tmp_path / "q.csv")  # fmt: skip
+    assert "m.csv: line 4" in err and "not a rotation matrix" in err and "c[" not in err
+    src = tmp_path / "q.csv"
+    src.write_text("t,qw,qx,qy,qz\n0,1,0,0,0\n0.1,0,1,0,0\n")
+    err = refused("convert", src, "--to", "gibbs", "-o", tmp_path / "g.csv")
+    assert "q.csv: line 3" in err and "Gibbs vector is infinite" in err
+
+
 def test_huge_readings_are_named_by_file_and_line_not_by_internal_arrays(tmp_path):
     # one absurd reading passes the unit check (a percentile of the first rows) and failed later as "q[98, 0] is
     # NaN" or "the step rotations overflow": the message must name the file, the line and the column

@@ -753,9 +753,46 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
             raise RowError(int(big[0]), f"an angle beyond ±{limit:.3g} {unit}: no digits are left below a turn")
     out = np.full((values.shape[0], REPRESENTATIONS[target]), np.nan)
     if ok.any():
-        q = from_values(source, values[ok], angles_in)
-        out[ok] = to_values(target, q, angles_out)
+        rows = values[ok]
+        if source == "quat":
+            # a quaternion's attitude does not depend on its scale: bring the largest component to 1 first, so
+            # that 1e300 or 5e-324 components neither overflow nor underflow the norm (exact: a division)
+            rows = rows / np.abs(rows).max(axis=1, keepdims=True)
+        try:
+            converted = to_values(target, from_values(source, rows, angles_in), angles_out)
+        except ValueError:
+            row, problem = _first_refused(rows, source, target, angles_in, angles_out)
+            raise RowError(int(np.flatnonzero(ok)[row]), problem) from None
+        bad = np.flatnonzero(~np.isfinite(converted).all(axis=1))
+        if bad.size:  # a Gibbs vector of a half turn, say: no finite number says it
+            row = int(np.flatnonzero(ok)[bad[0]])
+            raise RowError(row, f"an attitude the {target} representation cannot hold ({converted[bad[0]].tolist()})")
+        out[ok] = converted
     return out
+
+
+def _first_refused(rows, source, target, angles_in, angles_out) -> tuple[int, str]:
+    """The first row the conversion refuses, found by halving (only after a failure), and the reason.
+
+    The library names its own arrays and their indices ("c[0] is not a rotation matrix"): the reason is given
+    without that name, for the caller to put the file's line in front.
+    """
+    lo, hi = 0, len(rows)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        try:
+            to_values(target, from_values(source, rows[lo:mid], angles_in), angles_out)
+        except ValueError:
+            hi = mid
+        else:
+            lo = mid
+    try:
+        to_values(target, from_values(source, rows[lo:hi], angles_in), angles_out)
+    except ValueError as exc:
+        reason = re.sub(r"^[A-Za-z_]\w*(\[0\])? (is )?", "", str(exc))
+    else:  # pragma: no cover - the rows fail together but no row alone
+        reason = "values the conversion refuses"
+    return lo, f"values the {source} to {target} conversion refuses ({reason})"
 
 
 class RowError(ValueError):

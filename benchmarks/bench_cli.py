@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -46,16 +47,20 @@ def write_csv(path: Path, n: int = 200) -> Path:
     return path
 
 
-def timed(src: str, args: list[str], env_extra: dict | None = None, cwd: str | None = None) -> float:
+def timed(src: str, args: list[str], env_extra: dict | None = None, cwd: str | None = None) -> tuple[float, float]:
+    """(wall seconds, CPU seconds: user + system of the child) of one call."""
     env = dict(os.environ, PYTHONPATH=src, **(env_extra or {}))
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     res = subprocess.run(
         [sys.executable, "-m", "strapdown.cli", *args], env=env, cwd=cwd, capture_output=True, text=True
     )
     seconds = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if res.returncode != 0:
         raise SystemExit(f"strapdown {' '.join(args)} failed with {src}:\n{res.stderr}")
-    return seconds
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return seconds, cpu
 
 
 def main() -> None:
@@ -85,19 +90,25 @@ def main() -> None:
                 with tempfile.TemporaryDirectory() as cache:
                     cold[src] = timed(src, calls["estimate"], {"NUMBA_CACHE_DIR": cache})
     load = os.getloadavg()[0]
-    print(f"load average {load:.1f} on {os.cpu_count()} cores; wall seconds of one call, {a.runs} runs each")
-    print(f"{'checkout':60} {'call':9} {'median':>7} {'min':>7} {'max':>7}")
+    print(f"load average {load:.1f} on {os.cpu_count()} cores; seconds of one call, {a.runs} runs each")
+    print("wall: what a user waits (grows with the load); cpu: user + system time of the process (less so)")
+    print(f"{'checkout':48} {'call':9} {'wall med':>8} {'min':>6} {'max':>6} {'cpu med':>8}")
     for src in sources:
         for name in calls:
-            ts = times[src][name]
-            print(f"{src[-60:]:60} {name:9} {statistics.median(ts):7.3f} {min(ts):7.3f} {max(ts):7.3f}")
+            wall = [w for w, _ in times[src][name]]
+            cpu = [c for _, c in times[src][name]]
+            line = f"{statistics.median(wall):8.3f} {min(wall):6.3f} {max(wall):6.3f} {statistics.median(cpu):8.3f}"
+            print(f"{src[-48:]:48} {name:9} {line}")
         if src in cold:
-            print(f"{src[-60:]:60} {'cold':9} {cold[src]:7.3f}   (estimate, empty numba cache, one call)")
+            w, c = cold[src]
+            print(f"{src[-48:]:48} {'cold':9} {w:8.3f} {'':6} {'':6} {c:8.3f}   (estimate, empty numba cache)")
     if len(sources) > 1:
         base, new = sources[0], sources[-1]
         for name in calls:
-            ratio = statistics.median(times[new][name]) / statistics.median(times[base][name])
-            print(f"{name}: last / first checkout = {ratio:.2f}")
+            for k, what in ((0, "wall"), (1, "cpu")):
+                b = statistics.median([x[k] for x in times[base][name]])
+                n = statistics.median([x[k] for x in times[new][name]])
+                print(f"{name} {what}: last / first checkout = {n / b:.2f}")
     if a.json:
         out = {"load": load, "runs": a.runs, "times": times, "cold": cold}
         Path(a.json).write_text(json.dumps(out, indent=1))

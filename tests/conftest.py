@@ -49,3 +49,15 @@ def wrapped(a):
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)
+
+
+def strapdown_cli(*args, timeout=180, cwd=None):
+    """``python -m strapdown.cli ARGS`` as a subprocess (text output); a relative PYTHONPATH still works in ``cwd``."""
+    import subprocess
+    import sys
+
+    env = dict(os.environ)
+    if env.get("PYTHONPATH"):
+        env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env["PYTHONPATH"].split(os.pathsep))
+    command = [sys.executable, "-m", "strapdown.cli", *map(str, args)]
+    return subprocess.run(command, capture_output=True, text=True, timeout=timeout, cwd=cwd, env=env)

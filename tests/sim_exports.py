@@ -35,7 +35,9 @@ def _write(path: Path, header: str, rows) -> Path:
     return path
 
 
-def sensor_logger(folder: Path, data, *, total=True, rate_div=(1, 1, 2), jitter_ns=(0, 1_234_567, 3_456_789)):
+def sensor_logger(
+    folder: Path, data, *, total=True, gravity_file=False, rate_div=(1, 1, 2), jitter_ns=(0, 1_234_567, 3_456_789)
+):
     """An Android Sensor Logger export: time (epoch ns), seconds_elapsed, z, y, x per sensor file.
 
     The accelerometer and magnetometer are sampled at their own instants (offset from the gyro's) and the
@@ -47,6 +49,8 @@ def sensor_logger(folder: Path, data, *, total=True, rate_div=(1, 1, 2), jitter_
     if total:
         files["TotalAcceleration.csv"] = (data.acc, 1)
     files["Accelerometer.csv"] = (data.acc - gravity, 1)  # user acceleration: gravity removed
+    if gravity_file:
+        files["Gravity.csv"] = (gravity, 1)  # iOS: gravity apart, at the accelerometer's instants
     for name, (values, k) in files.items():
         step = rate_div[k]
         ns = EPOCH_NS + t_ns[::step] + jitter_ns[k]
@@ -59,8 +63,18 @@ def sensor_logger(folder: Path, data, *, total=True, rate_div=(1, 1, 2), jitter_
     return folder
 
 
-def phyphox(folder: Path, data, *, linear_only=False, semicolon=False):
-    """A phyphox multi-sensor export: "Time (s)" from the start and the sensor's columns, quoted headers."""
+def phyphox(folder: Path, data, *, linear_only=False, semicolon=False, start_epoch=None):
+    """A phyphox multi-sensor export: "Time (s)" from the start and the sensor's columns, quoted headers.
+
+    ``start_epoch`` also writes ``meta/time.csv`` with the START event's system time (epoch s).
+    """
+    if start_epoch is not None:
+        meta = folder / "meta"
+        meta.mkdir(parents=True, exist_ok=True)
+        (meta / "time.csv").write_text(
+            '"event","experiment time","system time","system time text"\n'
+            f'"START",0.000000000E0,{start_epoch:.3f},"2024-06-10 14:45:36.500 UTC+00:00"\n'
+        )
     t = data.t[:-1]
     gravity = data.acc.mean(axis=0)
     specs = {

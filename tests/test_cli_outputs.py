@@ -5,12 +5,11 @@ every expected number comes from physics, not from the code under test.
 """
 
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+from conftest import strapdown_cli
 from strapdown.io import read_metadata, read_table, write_table
 
 G = 9.80665
@@ -18,10 +17,7 @@ G = 9.80665
 B_NED = np.array([30.0, 0.0, 30.0])
 
 
-def run(*args, timeout=180):
-    return subprocess.run(
-        [sys.executable, "-m", "strapdown.cli", *map(str, args)], capture_output=True, text=True, timeout=timeout
-    )
+run = strapdown_cli
 
 
 def ok(*args):
@@ -248,3 +244,124 @@ def test_integrate_restarts_from_q0_after_a_gap(tmp_path):
     expected = signed(10.0 + 0.9 * np.arange(n))
     np.testing.assert_allclose(signed(roll[:n]), expected, atol=1e-9)
     np.testing.assert_allclose(signed(roll[n:]), expected, atol=1e-9)
+
+
+# ------------------------------------------------------------------------------------------------ real layouts
+DATA = __import__("pathlib").Path(__file__).parent / "data"
+PX4_LOG = DATA / "px4" / "sample_logging_tagged_and_default_params.ulg"
+
+
+def test_a_phone_export_given_as_its_files_or_its_folder_lies_flat(tmp_path):
+    import sim_exports as sim
+
+    data = sim.phone_at_rest(duration=10.0)  # flat on a table, top to the north: simulated, Sensor Logger layout
+    folder = sim.sensor_logger(tmp_path / "export", data)
+    files = [folder / n for n in ("Gyroscope.csv", "TotalAcceleration.csv", "Magnetometer.csv")]
+    from conftest import rotation_angle
+    from strapdown import change_frame
+    from strapdown.fusion import AttitudeEstimator
+    from strapdown.io import read_imu
+
+    got = read_imu(folder, optional=("acc", "mag"))  # the library on the same readings, in the phone's axes
+    q_rfu = AttitudeEstimator().update(got.gyro, got.acc, got.mag, t=got.t).q
+    library_flu = change_frame(q_rfu, body_from="RFU", body_to="FLU")
+    ok("estimate", *files, "-o", tmp_path / "files.parquet")
+    ok("estimate", folder, "-o", tmp_path / "folder.parquet")
+    for name in ("files", "folder"):
+        table = read_table(tmp_path / f"{name}.parquet")
+        late = table["t"] > table["t"][-1] - 1.0
+        assert np.abs(table["pitch_deg"][late]).max() < 2.0 and np.abs(table["roll_deg"][late]).max() < 2.0
+        # Android's axes (RFU) turned into ENU's FLU: the library's attitude of the phone's own axes, re-expressed
+        # (the simulated consumer magnetometer's hard iron puts the heading off north; it is the same in both)
+        q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+        assert rotation_angle(q, library_flu).max() < 1e-9
+        meta = read_metadata(tmp_path / f"{name}.parquet")
+        assert (meta["frame"], meta["body"], meta["sensor_axes"]) == ("ENU", "FLU", "RFU")
+        assert meta["time_origin_kind"] == "epoch" and int(meta["time_origin"]) == sim.EPOCH_NS
+        assert table["t"][0] == 0.0
+
+
+def test_a_px4_log_goes_in_with_no_options_in_its_own_frames(tmp_path):
+    from strapdown.io import read_reference
+    from strapdown.metrics import attitude_errors
+
+    res = ok("estimate", PX4_LOG, "-o", tmp_path / "att.parquet")
+    assert "read:" in res.stderr
+    meta = read_metadata(tmp_path / "att.parquet")
+    assert (meta["frame"], meta["body"], meta["sensor_axes"]) == ("NED", "FRD", "FRD")
+    assert (meta["time_origin"], meta["time_origin_unit"], meta["time_origin_kind"]) == ("284000", "us", "boot")
+    table = read_table(tmp_path / "att.parquet")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+    ref = read_reference(PX4_LOG)  # the log's own estimator, on the same time origin
+    keep = (ref.t > 2.0) & (ref.t <= table["t"][-1])
+    rows = np.searchsorted(table["t"], ref.t[keep])
+    assert np.degrees(attitude_errors(q[rows], ref.q[keep])["inclination"]).max() < 1.0
+
+
+def test_sensors_at_lower_rates_are_refused_by_an_estimator_that_needs_every_row():
+    err = run("estimate", PX4_LOG, "-e", "mahony").stderr  # its magnetometer runs at a fraction of the gyro rate
+    assert "mag" in err and "-e attitude" in err
+    res = run("estimate", PX4_LOG, "-e", "mahony", "--6d", "-o", "/dev/null", "--format", "csv")
+    assert res.returncode == 0, res.stderr
+
+
+# ------------------------------------------------------------------------------------------------ plot --truth
+def test_plot_truth_in_other_frames_is_re_expressed_and_said_so(tmp_path):
+    from conftest import rotation_angle
+    from strapdown.io.truth import align_truth
+    from strapdown.metrics import attitude_errors
+
+    ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 20)  # truth in ENU, FLU axes
+    ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "ned.parquet", "--frame", "NED", "--body", "FLU")
+    res = ok("plot", tmp_path / "ned.parquet", "--truth", tmp_path / "sim.parquet", "--out", tmp_path / "fig")
+    assert "truth re-expressed from ENU/FLU to NED/FRD" in res.stderr
+    assert sorted(p.name for p in (tmp_path / "fig").iterdir())[:2] == ["ned_angles.png", "ned_bias.png"]
+    # the numbers behind the error figure: small once re-expressed, a half turn as the files stand
+    table = read_table(tmp_path / "ned.parquet")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+    aligned = align_truth(tmp_path / "ned.parquet", tmp_path / "sim.parquet")
+    # a few degrees: the simulated field's 4 deg declination in the heading, the rocking's accelerations in the tilt
+    assert np.degrees(rotation_angle(q, aligned.q)).max() < 8.0
+    assert np.degrees(attitude_errors(q, aligned.q)["inclination"]).max() < 5.0
+    raw = read_table(tmp_path / "sim.parquet")
+    q_true = np.column_stack([raw[c] for c in ("qw_true", "qx_true", "qy_true", "qz_true")])
+    assert np.median(np.degrees(rotation_angle(q, q_true))) > 60.0
+
+
+def test_plot_truth_without_frames_is_refused_until_they_are_declared(tmp_path):
+    ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 10)
+    raw = read_table(tmp_path / "sim.parquet")
+    bare = write_table(tmp_path / "ref.csv", {"t": raw["t"], **{c: raw[f"{c}_true"] for c in ("qw", "qx", "qy", "qz")}})
+    ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "att.parquet", "--body", "FLU")
+    res = run("plot", tmp_path / "att.parquet", "--truth", bare, "--out", tmp_path / "fig")
+    assert res.returncode == 1 and "--truth-frame" in res.stderr and "does not say" in res.stderr
+    assert not (tmp_path / "fig").exists() or not list((tmp_path / "fig").iterdir())
+    ok("plot", tmp_path / "att.parquet", "--truth", bare, "--truth-frame", "ENU", "--truth-body", "FLU", "--out",
+       tmp_path / "fig")  # fmt: skip
+
+
+def test_a_px4_logs_own_attitude_is_a_truth_for_plot(tmp_path):
+    from conftest import rotation_angle
+    from strapdown.io.truth import align_truth
+
+    ok("estimate", PX4_LOG, "-o", tmp_path / "att.csv")
+    res = ok("plot", tmp_path / "att.csv", "--truth", PX4_LOG, "--out", tmp_path / "fig")
+    assert "interpolated" in res.stderr and res.stdout.count("written:") >= 2
+    aligned = align_truth(tmp_path / "att.csv", PX4_LOG)
+    table = read_table(tmp_path / "att.csv")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])[aligned.rows]
+    late = table["t"][aligned.rows] > 2.0
+    # the log's estimator and ours agree on the tilt at rest; the whole error (with heading) stays within degrees
+    assert np.degrees(rotation_angle(q[late], aligned.q[aligned.rows][late])).max() < 10.0
+
+
+def test_compare_runs_every_method_against_a_px4_logs_own_attitude():
+    from strapdown import METHODS
+
+    out = ok("compare", "--log", PX4_LOG).stdout
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if line and line.split()[0] in METHODS}
+    assert set(rows) == set(METHODS)
+    # the log's gyro integrated from its own first attitude stays near its estimator's attitude: a real gyro's bias
+    # and noise over the log's seconds, so not zero, and well under a degree
+    final = float(rows["exact"][1])
+    assert 1e-3 < final < 1.0

@@ -20,6 +20,11 @@ DATA = Path(__file__).parent / "data"
 PX4 = sorted((DATA / "px4").glob("*.ulg"))
 
 
+def options(log):
+    """No options but for the small log, whose real 161 ms gap after its first sample the gap check stops."""
+    return ImuColumns(max_gap=0) if log.name == "sample_log_small.ulg" else None
+
+
 def level_angles(data, frame):
     """Pitch and roll (deg) that AttitudeEstimator reaches on the last second of a recording at rest."""
     est = AttitudeEstimator(frame=frame).update(data.gyro, data.acc, data.mag, t=data.t)
@@ -30,7 +35,7 @@ def level_angles(data, frame):
 # ----------------------------------------------------------------------------------------------------- PX4
 @pytest.mark.parametrize("log", PX4, ids=lambda p: p.stem)
 def test_px4_ulog_reads_sensor_combined_in_si_with_boot_time_and_ned_frd(log):
-    imu = ImuFile(log, ImuColumns(max_gap=0), optional=("acc", "mag"))
+    imu = ImuFile(log, options(log), optional=("acc", "mag"))
     assert imu.format == "ulog" and (imu.frame, imu.body) == ("NED", "FRD")
     assert imu.picks["gyro"].fields[0] == "sensor_combined/gyro_rad[0]" and imu.units["gyro"] == "rad/s"
     assert imu.picks["acc"].fields[2] == "sensor_combined/accelerometer_m_s2[2]" and imu.units["acc"] == "m/s2"
@@ -41,7 +46,7 @@ def test_px4_ulog_reads_sensor_combined_in_si_with_boot_time_and_ned_frd(log):
     raw = ULog(str(log), message_name_filter_list=["sensor_combined"]).get_dataset("sensor_combined").data
     assert imu.time_origin.value == int(raw["timestamp"][0]) and imu.time_origin.kind == "boot"
     assert imu.time_origin.unit == "us"
-    data = read_imu(log, ImuColumns(max_gap=0), optional=("acc", "mag"))
+    data = read_imu(log, options(log), optional=("acc", "mag"))
     np.testing.assert_array_equal(data.t, (raw["timestamp"] - raw["timestamp"][0]) / 1e6)
     np.testing.assert_array_equal(data.gyro[:, 1], raw["gyro_rad[1]"].astype(float))
     # vehicle_magnetometer is in gauss: read as µT, the Earth's field
@@ -71,7 +76,7 @@ def test_px4_log_gap_after_the_first_sample_is_reported_not_read_through():
 
 @pytest.mark.parametrize("log", PX4, ids=lambda p: p.stem)
 def test_px4_vehicle_at_rest_shows_the_tilt_its_own_estimator_logged(log):
-    data = read_imu(log, ImuColumns(max_gap=0), optional=("acc",))
+    data = read_imu(log, options(log), optional=("acc",))
     ref = read_reference(log)
     assert (ref.frame, ref.body) == ("NED", "FRD")
     est = AttitudeEstimator(frame="NED").update(data.gyro, data.acc, t=data.t)
@@ -166,6 +171,21 @@ def test_sensor_logger_without_gravity_is_refused_as_linear_acceleration(tmp_pat
     folder = sim.sensor_logger(tmp_path / "ios", sim.phone_at_rest(duration=5.0), total=False)
     with pytest.raises(ValueError, match="gravity-free 'linear acceleration' stream"):
         read_imu(folder, optional=("acc",))
+
+
+def test_sensor_logger_ios_style_acceleration_plus_gravity_is_the_specific_force(tmp_path):
+    data = sim.phone_at_rest(duration=6.0)
+    folder = sim.sensor_logger(tmp_path / "ios", data, total=False, gravity_file=True)
+    imu = ImuFile(folder, optional=("acc",))
+    assert imu.picks["acc"].fields[0] == "Accelerometer.csv/x+Gravity.csv"
+    np.testing.assert_allclose(read_imu(folder, optional=("acc",)).acc, data.acc, atol=1e-12)
+
+
+def test_phyphox_start_time_gives_the_epoch_origin(tmp_path):
+    folder = sim.phyphox(tmp_path / "p", sim.phone_at_rest(duration=2.0), start_epoch=1718030736.5)
+    origin = ImuFile(folder).time_origin
+    assert origin.kind == "epoch" and origin.unit == "s" and origin.value == pytest.approx(1718030736.5)
+    assert origin.iso.startswith("2024-06-10T14:45:36.5")
 
 
 @pytest.mark.parametrize("semicolon", [False, True])

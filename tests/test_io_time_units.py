@@ -92,6 +92,17 @@ def test_a_normalised_magnetometer_is_read_and_reported_as_normalised(tmp_path):
     np.testing.assert_array_equal(read_imu(path, optional=("mag",)).mag, m)
 
 
+def test_blank_lines_comments_and_a_unit_row_keep_the_line_numbers(tmp_path):
+    path = tmp_path / "b.csv"
+    text = "\n# frame: NED\n\nt,gx,gy,gz\n\nms,deg/s,deg/s,deg/s\n0,0,0,90\n10,0,0,90\n"
+    path.write_text(text)
+    imu = ImuFile(path)
+    assert imu.units == {"gyro": "deg/s", "time": "ms"} and read_metadata(path) == {"frame": "NED"}
+    path.write_text(text + "20,0,0,x\n")
+    with pytest.raises(ValueError, match=r"line 9, column 'gz': 'x' is not a number"):
+        read_imu(path)
+
+
 def test_csv_comment_lines_are_metadata_and_a_hash_header_is_a_header(tmp_path):
     path = tmp_path / "m.csv"
     path.write_text("# frame: NED\n# body: FRD\n# time_origin: 20309082\nt,qw,qx,qy,qz\n0.5,1,0,0,0\n0.6,1,0,0,0\n")
@@ -163,6 +174,19 @@ def test_a_zip_member_cannot_escape_the_temporary_folder(tmp_path):
     assert not out.folder.exists()
 
 
+def test_a_zip_that_would_expand_past_the_cap_is_refused(tmp_path, monkeypatch):
+    import zipfile
+
+    from strapdown.io.formats import multi
+
+    path = tmp_path / "big.zip"
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as z:
+        z.writestr("Gyroscope.csv", "time,seconds_elapsed,z,y,x\n" + "0" * 3_000_000)
+    monkeypatch.setattr(multi, "MAX_UNZIPPED_BYTES", 1 << 20)
+    with pytest.raises(ValueError, match=r"big.zip: its files would expand to 2.9 MiB, past the 1 MiB read from a zip"):
+        open_source(path)
+
+
 def test_a_new_format_is_one_registration(tmp_path):
     from strapdown.io.registry import Format, formats, register
     from strapdown.io.source import MemorySource
@@ -180,3 +204,23 @@ def test_a_new_format_is_one_registration(tmp_path):
         assert read_imu(path).gyro[:, 2].tolist() == [1.0, 1.0, 1.0]
     finally:
         formats().pop("demo")
+
+
+def test_a_gyro_in_deg_s_read_as_rad_s_at_rest_is_refused(tmp_path):
+    # the accelerometer says gravity stays put; a 0.5 deg/s bias read as rad/s says the body tilts at 29 deg/s
+    import sim_exports as sim
+    from strapdown.io import write_table
+
+    data = sim.phone_at_rest(duration=5.0)
+    deg = np.degrees(data.gyro) + np.array([0.5, -0.4, 0.3])  # consumer bias plus this: about 1 deg/s
+    cols = {"t": data.t[:-1], "gx": deg[:, 0], "gy": deg[:, 1], "gz": deg[:, 2]}
+    cols |= {"ax": data.acc[:, 0], "ay": data.acc[:, 1], "az": data.acc[:, 2]}
+    path = write_table(tmp_path / "deg.csv", cols)
+    with pytest.raises(
+        ValueError, match=r"turns the body at \d\.\d+ rad/s .* look like deg/s.*columns gx,gy,gz and ax"
+    ):
+        ImuFile(path, optional=("acc",))
+    assert ImuFile(path, ImuColumns(gyro_unit="deg/s"), optional=("acc",)).units["gyro"] == "deg/s"
+    # a turntable: 1 rad/s about the vertical with gravity steady in the body is no contradiction
+    cols["gx"], cols["gy"], cols["gz"] = np.zeros(len(deg)), np.zeros(len(deg)), np.ones(len(deg))
+    assert ImuFile(write_table(tmp_path / "turn.csv", cols), optional=("acc",)).units["gyro"] == "rad/s"

@@ -23,7 +23,7 @@ import numpy as np
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
-from .units import check_gravity_sign, check_plausible, parse_unit, scale
+from .units import check_gravity_sign, check_gyro_at_rest, check_plausible, parse_unit, scale
 
 __all__ = ["ImuChunk", "ImuColumns", "ImuFile", "read_imu"]
 
@@ -269,8 +269,10 @@ class ImuFile:
         if self.time is not None:
             # a decoded log's t is seconds already: a --time-unit was the reader's, for the files' own columns
             declared = "s" if self.source.time_in_seconds else self.spec.time_unit
-            self.units["time"] = parse_unit("time", declared) if declared else (self.time.unit_hint or "s")
-            self._resolve_time_unit(declared is not None or self.time.unit_hint is not None)
+            stated = self.source.units.get(self.time.fields[0])  # a unit row
+            hint = self.time.unit_hint or (parse_unit("time", stated, strict=False) if stated else None)
+            self.units["time"] = parse_unit("time", declared) if declared else (hint or "s")
+            self._resolve_time_unit(declared is not None or hint is not None)
 
     def _resolve_time_unit(self, stated: bool) -> None:
         """Infer an integer column's unit from its steps, check the period, and find what t = 0 is."""
@@ -336,21 +338,21 @@ class ImuFile:
         return "; ".join(parts)
 
     def _head(self, relative=()) -> dict:
-        """The first 4096 rows of the time, accelerometer and magnetometer fields, read once.
+        """The first 4096 rows of the time, gyro, accelerometer and magnetometer fields, read once.
 
         One pass serves both the time-unit inference and the checks of :meth:`_probe`.
         """
         if getattr(self, "_head_cols", None) is None:
             names = list(self.time.fields) if self.time is not None else []
-            names += [f for k in ("acc", "mag") if k in self.picks for f in self.picks[k].fields]
+            names += [f for k in ("gyro", "acc", "mag") if k in self.picks for f in self.picks[k].fields]
             names = list(dict.fromkeys(names))
             empty = {n: np.zeros(0 if self.source.fields[n] == 1 else (0, self.source.fields[n])) for n in names}
             self._head_cols = next(iter(self.source.chunks(names, 4096, 0, 4096, relative=relative)), (0, empty))[1]
         return self._head_cols
 
     def _probe(self) -> None:
-        """Checks on the first rows that decide how the file is read: a normalised magnetometer, gravity's sign."""
-        kinds = [k for k in ("acc", "mag") if k in self.picks]
+        """Checks on the first rows: a normalised magnetometer, gravity's sign, a gyro the accelerometer contradicts."""
+        kinds = [k for k in ("acc", "mag") if k in self.picks]  # the gyro alone has nothing to be checked against
         if not kinds or not self.spec.unit_check:
             return
         cols = self._head()
@@ -363,11 +365,21 @@ class ImuFile:
             if norms.size and 0.8 <= np.median(norms) <= 1.25 and self.units["mag"] == "uT":
                 self.units["mag"] = "normalised"
                 self.notes.append(f"mag normalised (|m| median {np.median(norms):.3g}): used for its direction")
-        if "acc" in self.picks and self.source.upright and self.body:
-            raw = _assemble(cols, self.picks["acc"]) * scale("acc", self.units["acc"])
-            problem = check_gravity_sign(raw[np.isfinite(raw).all(axis=1)], self.body)
+        if "acc" not in self.picks:
+            return
+        acc = _assemble(cols, self.picks["acc"]) * scale("acc", self.units["acc"])
+        if self.source.upright and self.body:
+            problem = check_gravity_sign(acc[np.isfinite(acc).all(axis=1)], self.body)
             if problem:
                 raise ValueError(f"{self.path}: {problem} (columns {self.picks['acc'].label})")
+        if not self.increments and self.period:
+            gyro = _assemble(cols, self.picks["gyro"]) * scale("gyro", self.units["gyro"])
+            both = np.isfinite(acc).all(axis=1) & np.isfinite(gyro).all(axis=1)
+            problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * self.period, self.units["gyro"])
+            if problem:
+                raise ValueError(
+                    f"{self.path}: {problem} (columns {self.picks['gyro'].label} and {self.picks['acc'].label})"
+                )
 
     def count_rows(self) -> int:
         """Number of rows (a pass over a CSV file)."""

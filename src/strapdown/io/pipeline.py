@@ -217,9 +217,21 @@ class _RowTimes:
         return everything[:m]
 
 
+def _inputs(path) -> list[Path]:
+    """The files of one recording: one path, or the list of several (one per sensor)."""
+    return [Path(p) for p in path] if isinstance(path, list | tuple) else [Path(path)]
+
+
 def _output_path(path, output, command: str, format: str | None) -> Path:
-    out = Path(output) if output is not None else default_output(path, command, format)
-    if path is not None and out.resolve() == Path(path).resolve():
+    inputs = [] if path is None else _inputs(path)
+    if output is not None:
+        out = Path(output)
+    elif len(inputs) > 1:  # one file per sensor: the output is named after their folder, beside them
+        folder = inputs[0].parent
+        out = default_output(folder / f"{folder.resolve().name or 'recording'}.csv", command, format)
+    else:
+        out = default_output(path, command, format)
+    if any(out.resolve() == p.resolve() for p in inputs):
         raise ValueError(f"the output {out} is the input file; choose another output (-o)")
     return out
 
@@ -314,7 +326,7 @@ def integrate_file(
                         run.write(seg, attitude_columns(t - run.t_first, q, out))
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
-        report = Report(Path(path), run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
+        report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(axes.describe())
         report.notes.extend(run.notes)
         report.outputs = run.outputs
@@ -518,7 +530,7 @@ def estimate_file(
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
                 run.write(seg, attitude_columns(run.t(chunk), e.q, out, e.bias, e.flags, at_limit))
-        report = Report(Path(path), run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
+        report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
         report.notes.extend(run.notes)
         report.outputs = run.outputs
@@ -1006,7 +1018,16 @@ def simulate_file(
         rate_hz=rate,
         gyro_input=data.gyro_input,
         reference=reference,
-        body=body,
+        frame=reference.upper(),  # the truth's, and the name every reader of frames looks for
+        body=body.upper(),
+        quaternion="w,x,y,z scalar first, Hamilton, body to frame (qw_true..qz_true)",
+        time_unit="s",
+        time_origin="0",
+        time_origin_unit="s",
+        time_origin_kind="file",
+        gyro_unit=gyro_unit,
+        acc_unit=acc_unit,
+        mag_unit=mag_unit,
         imu=imu,
         seed=seed,
     )

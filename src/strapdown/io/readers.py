@@ -161,7 +161,7 @@ def read_metadata(path, format: str | None = None) -> dict[str, str]:
 
 
 #: Every input format's name (``--in-format``), tables first.
-INPUT_FORMATS = tuple(formats())
+INPUT_FORMATS = tuple(sorted(formats(), key=lambda name: not formats()[name].table))
 
 
 def input_format(path, format: str | None = None) -> str:

@@ -93,8 +93,8 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
     >>> import numpy as np, pathlib, tempfile
     >>> from strapdown.io import read_reference, write_table
     >>> path = pathlib.Path(tempfile.mkdtemp()) / "truth.csv"
-    >>> _ = write_table(path, {"t": [5.0, 5.01], "qw": [1.0, 1.0], "qx": [0.0, 0.0], "qy": [0.0, 0.0],
-    ...                        "qz": [0.0, 0.0]})
+    >>> one, zero = np.ones(2), np.zeros(2)
+    >>> _ = write_table(path, {"t": np.array([5.0, 5.01]), "qw": one, "qx": zero, "qy": zero, "qz": zero})
     >>> ref = read_reference(path)
     >>> ref.t, ref.source
     (array([0.  , 0.01]), 'qw,qx,qy,qz')

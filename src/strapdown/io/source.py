@@ -157,6 +157,11 @@ class Source:
     def close(self) -> None:
         """Release the file."""
 
+    def _stop(self, names, stop: int | None) -> int:
+        """The end of a read of ``names`` (fields stored apart, HDF5 and .mat): the shortest's length at most."""
+        n = min((self.lengths[name] for name in names), default=0)
+        return n if stop is None else min(stop, n)
+
     def __enter__(self):
         return self
 

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-__all__ = ["GRAVITY", "UNITS", "check_gravity_sign", "check_plausible", "parse_unit", "scale"]
+__all__ = ["GRAVITY", "UNITS", "check_gravity_sign", "check_gyro_at_rest", "check_plausible", "parse_unit", "scale"]
 
 GRAVITY = 9.80665
 
@@ -261,3 +261,65 @@ def check_gravity_sign(acc, body: str) -> str | None:
             f"flipped, or the log starts upside down.  Negate it, or pass --no-unit-check if it really is inverted"
         )
     return None
+
+
+# A gyro that says the body tilts this fast while gravity stays put in the body contradicts the accelerometer:
+# 0.2 rad/s (11°/s) is far past any MEMS gyro's bias (a few °/s at worst, uncalibrated).
+_TILT_RATE_AT_REST = 0.2
+
+
+def check_gyro_at_rest(gyro, acc, seconds: float, unit: str) -> str | None:
+    """A message when the gyro turns the body about a horizontal axis while the accelerometer says it does not.
+
+    At rest, or turning about the vertical only (a turntable), gravity keeps its direction in the body.  A mean
+    rate of more than 0.2 rad/s about an axis perpendicular to gravity would turn that direction by 11° a
+    second; if the accelerometer's direction stays within 3° over the window instead, the gyro's numbers are not
+    rates in ``unit`` (deg/s values declared as rad/s read a 0.5°/s bias as 29°/s), or the two sensors' axes
+    differ.
+
+    Parameters
+    ----------
+    gyro, acc : numpy.ndarray, shape (N, 3)
+        Rates (rad/s, converted with the declared unit) and specific force (m/s²) of the same rows, finite.
+    seconds : float
+        The span of the rows, s.
+    unit : str
+        The gyro's declared unit, for the message.
+
+    Returns
+    -------
+    str or None
+        What looks wrong.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.units import check_gyro_at_rest
+    >>> acc = np.tile([0.0, 0.0, 9.81], (500, 1))
+    >>> check_gyro_at_rest(np.tile([0.0, 0.0, 1.0], (500, 1)), acc, 5.0, "rad/s") is None   # a turntable
+    True
+    >>> check_gyro_at_rest(np.tile([0.5, -0.3, 0.2], (500, 1)), acc, 5.0, "rad/s")[:38]
+    'the gyro turns the body at 0.583 rad/s'
+    """
+    n = acc.shape[0]
+    if n < 20 or seconds < 1.0:
+        return None
+    k = max(1, n // 10)
+    blocks = acc[: n - n % k].reshape(-1, k, 3).mean(axis=1)  # means of k rows: the accelerometer's noise out
+    ref = blocks[0]
+    g = float(np.linalg.norm(ref))
+    if not 0.8 * GRAVITY < g < 1.2 * GRAVITY:
+        return None
+    cos = blocks @ ref / (np.linalg.norm(blocks, axis=1) * g)
+    drift = float(np.degrees(np.arccos(np.clip(cos.min(), -1.0, 1.0))))
+    up = ref / g
+    w = gyro.mean(axis=0)
+    across = float(np.linalg.norm(w - (w @ up) * up))
+    if drift > 3.0 or across < _TILT_RATE_AT_REST:
+        return None
+    guess = "  The values look like deg/s: pass --gyro-unit deg/s" if unit == "rad/s" else ""
+    return (
+        f"the gyro turns the body at {across:.3g} rad/s about a horizontal axis ({np.degrees(across * seconds):.0f}° "
+        f"in {seconds:.3g} s), but gravity stays within {drift:.1f}° in the accelerometer's axes: the gyro's numbers "
+        f"are not rates in {unit}, or the two sensors' axes differ.{guess} (or --no-unit-check)"
+    )

@@ -36,20 +36,20 @@ class CsvSource(Source):
     def __init__(self, path: Path):
         super().__init__(path)
         with open(path, newline="", encoding="utf-8-sig") as f:
-            lines, comments = [], []
+            before, first = [], ""  # the blank and comment lines before the first other line
             for line in f:
                 if line.strip() and not line.startswith("#"):
-                    lines.append(line)
+                    first = line
                     break
-                if line.startswith("#"):
-                    comments.append(line)
-            lines += [f.readline() for _ in range(64)]
-        first = lines[0] if lines else ""
-        head, n_skip = first, len(comments) + 1
-        if comments and (not first.strip() or self._is_data(first, comments[-1])):
-            head, n_skip = comments.pop()[1:], n_skip - 1  # the header is the last comment (EuRoC's "#timestamp")
+                before.append(line)
+            rest = [f.readline() for _ in range(64)]
+        marks = [i for i, line in enumerate(before) if line.startswith("#")]
+        comments = [before[i] for i in marks]
+        if marks and (not first.strip() or self._is_data(first, before[marks[-1]])):
+            # the header is the last comment (EuRoC's "#timestamp [ns],..."); the first other line is data
+            head, n_skip, lines = comments.pop()[1:], marks[-1] + 1, [first, *rest]
         else:
-            lines = lines[1:]
+            head, n_skip, lines = first, len(before) + 1, rest
         self.metadata = {m.group(1): m.group(2).strip() for c in comments if (m := _COMMENT_ITEM.match(c.strip()))}
         if not head.strip():
             raise ValueError("it is empty; a CSV file needs a header line with the column names")
@@ -63,11 +63,12 @@ class CsvSource(Source):
             raise ValueError(f"the column name(s) {shown} appear more than once in the header")
         self._index = {h: i for i, h in enumerate(self.header)}
         self.fields = {h: 1 for h in self.header}
-        lines = [s for s in lines if s.strip()]
-        if lines and self._is_unit_row(lines[0]):
-            units = next(csv.reader(lines[:1], delimiter=self.delimiter))
+        blank = next((i for i, line in enumerate(lines) if line.strip()), len(lines))
+        if blank < len(lines) and self._is_unit_row(lines[blank]):
+            units = next(csv.reader(lines[blank : blank + 1], delimiter=self.delimiter))
             self.units = {h: u.strip() for h, u in zip(self.header, units, strict=False) if u.strip()}
-            lines, n_skip = lines[1:], n_skip + 1
+            lines, n_skip = lines[blank + 1 :], n_skip + blank + 1
+        lines = [s for s in lines if s.strip()]
         self._skip = n_skip  # lines before the first data row
         self.decimal = (
             "," if self.delimiter != "," and any(_DECIMAL_COMMA.match(c.strip()) for c in self._cells(lines)) else "."

@@ -90,10 +90,7 @@ class Hdf5Source(Source):
 
     def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named datasets, ``chunk_rows`` at a time."""
-        chunk_rows = check_chunk_rows(chunk_rows)
-        names = list(names)
-        n = min(self.lengths[name] for name in names) if names else 0
-        stop = n if stop is None else min(stop, n)
+        chunk_rows, names, stop = check_chunk_rows(chunk_rows), list(names), self._stop(names, stop)
         origins = {}
         for name in set(relative) & self.integers & set(names):
             ds, _ = self._datasets[name]

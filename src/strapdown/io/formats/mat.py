@@ -86,10 +86,7 @@ class MatSource(Source):
 
     def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named variables, ``chunk_rows`` at a time."""
-        chunk_rows = check_chunk_rows(chunk_rows)
-        names = list(names)
-        n = min(self.lengths[name] for name in names) if names else 0
-        stop = n if stop is None else min(stop, n)
+        chunk_rows, names, stop = check_chunk_rows(chunk_rows), list(names), self._stop(names, stop)
         origins = {}
         for name in set(relative) & self.integers & set(names):
             origins[name] = self._int_origin(name, self._arrays[name][0] if self.lengths[name] else None)

@@ -352,8 +352,8 @@ class Unzipped:
                 total = sum(i.file_size for i in infos)
                 if total > MAX_UNZIPPED_BYTES:
                     raise ValueError(
-                        f"{path}: its files would expand to {total / 2**30:.1f} GiB, past the "
-                        f"{MAX_UNZIPPED_BYTES / 2**30:.0f} GiB read from a zip; unpack it and give the folder"
+                        f"{path}: its files would expand to {total / 2**20:.1f} MiB, past the "
+                        f"{MAX_UNZIPPED_BYTES / 2**20:.0f} MiB read from a zip; unpack it and give the folder"
                     )
                 for info in infos:
                     target = self.folder / Path(info.filename).name

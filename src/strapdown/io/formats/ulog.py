@@ -6,8 +6,9 @@
   (``"sensor_gyro"``, or ``"sensor_gyro:1"`` for the second instance).
 * Magnetometer: ``vehicle_magnetometer`` (``magnetometer_ga``, gauss) else ``sensor_mag`` (gauss), on the gyro's
   rows (:mod:`strapdown.io.merge`); ``mag_topic=`` chooses.
-* Time: ``timestamp`` is in microseconds since boot; t counts from the first gyro sample, and the origin
-  (:class:`~strapdown.io.source.TimeOrigin`, kind ``"boot"``) is kept.
+* Time: microseconds since boot, ``timestamp_sample`` (the raw sample's time) where a topic has it, else
+  ``timestamp``; t counts from the first gyro sample, and the origin (:class:`~strapdown.io.source.TimeOrigin`,
+  kind ``"boot"``) is kept.
 * Frames: PX4 sensor data are in body axes FRD, and ``vehicle_attitude.q`` is the "quaternion rotation from the
   FRD body frame to the NED earth frame", Hamilton convention, order (w, x, y, z) (PX4 uORB ``VehicleAttitude.msg``):
   strapdown's own convention, so the preset is reference NED, body FRD, and :func:`read_attitude` takes ``q`` as
@@ -56,6 +57,18 @@ def _load(path: Path, names):
         raise ValueError(f"{path} is not a readable ULog file: {exc}") from None
 
 
+def _times(d) -> np.ndarray:
+    """A topic's sample times, µs since boot.
+
+    ``timestamp_sample`` (when the sensor sampled) where the log has it, else ``timestamp`` (when the message was
+    published; sensor_combined's is its gyro sample's).
+    """
+    stamp = d.data.get("timestamp_sample")
+    if stamp is not None and d.name != "sensor_combined" and np.all(stamp > 0):
+        return np.asarray(stamp, dtype=np.int64)
+    return np.asarray(d.data["timestamp"], dtype=np.int64)
+
+
 def _vector(d, stem: str) -> np.ndarray:
     keys = [f"{stem}[{i}]" for i in range(3)] if stem else ["x", "y", "z"]
     return np.column_stack([np.asarray(d.data[k], dtype=np.float64) for k in keys])
@@ -80,7 +93,9 @@ class UlogSource(MemorySource):
         if topic is None:
             topic = "sensor_combined" if _has(ulog, "sensor_combined") else "sensor_gyro"
         gyro = _topic(ulog, topic, path)
-        t_us = np.asarray(gyro.data["timestamp"], dtype=np.int64)
+        t_us = _times(gyro)
+        if t_us.size == 0:
+            raise ValueError(f"{path}: topic {topic!r} has no samples")
         cols: dict[str, np.ndarray] = {}
         if gyro.name == "sensor_combined":
             g = _vector(gyro, "gyro_rad")
@@ -94,9 +109,9 @@ class UlogSource(MemorySource):
             g = _vector(gyro, "")
             instance = topic.partition(":")[2] or "0"
             acc = _topic(ulog, f"sensor_accel:{instance}", path) if _has(ulog, "sensor_accel") else None
-            a = None if acc is None else place_on_rows(t_us, np.asarray(acc.data["timestamp"]), _vector(acc, ""))
+            a = None if acc is None else place_on_rows(t_us, _times(acc), _vector(acc, ""))
             prefix_g, prefix_a = "sensor_gyro/gyro_", "sensor_accel/acc_"
-            names_g = names_a = [f"{c} [rad/s]" for c in "xyz"]
+            names_g = [f"{c} [rad/s]" for c in "xyz"]
             names_a = [f"{c} [m/s2]" for c in "xyz"]
         else:
             raise ValueError(f"{path}: topic {topic!r} holds no gyro; use sensor_combined or sensor_gyro")
@@ -109,7 +124,7 @@ class UlogSource(MemorySource):
         mag = self._mag(ulog, path, mag_topic)
         if mag is not None:
             d, stem = mag
-            m = place_on_rows(t_us, np.asarray(d.data["timestamp"]), _vector(d, stem))
+            m = place_on_rows(t_us, _times(d), _vector(d, stem))
             mag_names = (
                 [f"{d.name}/magnetometer_ga[{i}]" for i in range(3)]
                 if stem
@@ -168,9 +183,9 @@ def read_attitude(path, topic: str | None = None):
     ulog = _load(path, ("vehicle_attitude", "sensor_combined", "sensor_gyro"))
     if topic is None:
         topic = "sensor_combined" if _has(ulog, "sensor_combined") else "sensor_gyro"
-    t0 = int(np.asarray(_topic(ulog, topic, path).data["timestamp"])[0])
+    t0 = int(_times(_topic(ulog, topic, path))[0])
     att = _topic(ulog, "vehicle_attitude", path)
-    t_us = np.asarray(att.data["timestamp"], dtype=np.int64)
+    t_us = _times(att)  # timestamp_sample: the IMU sample the attitude is for
     q = np.column_stack([np.asarray(att.data[f"q[{i}]"], dtype=np.float64) for i in range(4)])
     return (t_us - t0) / 1e6, q, TimeOrigin(t0, "us", "boot")
 

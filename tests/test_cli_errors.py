@@ -231,3 +231,18 @@ def test_scheduler_workers_find_relative_inputs(tmp_path):
     assert split.returncode == 0, split.stderr
     assert (tmp_path / "out" / "a.estimate.parquet").is_file()
     assert (tmp_path / "logs" / "a.integrate.parquet").is_file()
+
+
+def test_an_unknown_format_is_met_by_the_option_the_command_has(tmp_path, attitude_file):
+    # the message said --format (the output's option) where the input's is --in-format; plot has neither
+    src = tmp_path / "log.weird"
+    src.write_text("a,b\n1,2\n")
+    for command in ("estimate", "integrate", "convert"):
+        err = refused(command, src, "-o", tmp_path / "o.csv")
+        assert "cannot tell the format of 'log.weird'" in err and "--in-format" in err
+        assert "--in-format" in run(command, "--help").stdout
+    err = refused("plot", src)
+    assert "give it one of those suffixes" in err and "--in-format" not in err
+    assert "--in-format" not in run("plot", "--help").stdout
+    err = refused("plot", attitude_file, "--truth", src)
+    assert "log.weird" in err and "--in-format" not in err

@@ -69,6 +69,9 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
                     est, ref = write_aligned(aligned, path, truth, scratch)
                     written = plot_file(est, ref, folder, angles=angles, max_points=max_points)
     except (ValueError, OSError, ImportError) as exc:
-        raise click.ClickException(str(exc)) from None
+        # the readers suggest --in-format, which plot does not have: its attitude tables go by their suffix
+        raise click.ClickException(
+            str(exc).replace("name it with --in-format", "give it one of those suffixes")
+        ) from None
     for f in written:
         click.echo(f"written: {f}")

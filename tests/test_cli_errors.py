@@ -82,6 +82,7 @@ def test_simulate_refuses_an_impossible_size_before_allocating(tmp_path):
     assert "--rate" in err and "3e+13 samples" in err
     assert not (tmp_path / "big.parquet").exists()
     assert "--rate" in refused("simulate", tmp_path / "x.csv", "--rate", "nan", code=2)
+    assert "holds no sample at 1e-300 Hz" in refused("compare", "--rate", "1e-300", code=2)
     # numpy's "expected non-negative integer" (a traceback in compare) named no option
     assert "--seed" in refused("compare", "--seed", "-1", code=2)
     assert "--seed" in refused("simulate", tmp_path / "x.csv", "--seed", "-1", code=2)

@@ -59,7 +59,10 @@ def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
         scenario = Path(log).stem
     else:
         model = {"ideal": ImuModel.ideal, "consumer": ImuModel.consumer_mems, "tactical": ImuModel.tactical}[imu]()
-        data = sample(make(scenario), rate, gyro=gyro, imu=model, seed=seed)
+        try:
+            data = sample(make(scenario), rate, gyro=gyro, imu=model, seed=seed)
+        except ValueError as exc:  # a rate too low for one sample, say
+            raise click.BadParameter(str(exc), param_hint="--rate") from None
         title = f"{scenario}, {imu} IMU, {gyro} gyro at {rate:g} Hz"
     result = run_compare(data, chosen, title=title)
     click.echo(result.table())

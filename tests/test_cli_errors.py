@@ -69,10 +69,15 @@ def test_outputs_in_a_read_only_folder_are_refused_before_computing(read_only, a
     assert "--csv" in refused("evaluate", tmp_path, "--csv", read_only / "rows.csv", code=2)
     assert "OUTPUT" in refused("simulate", read_only / "sim.csv", code=2)
     assert "--out" in refused("plot", attitude_file, "--out", read_only / "figs", code=2)
+    src = write_table(tmp_path / "still.csv", level())
+    for command in ("integrate", "estimate", "convert"):  # the message named the hidden temp file
+        err = refused(command, src if command != "convert" else attitude_file, "-o", read_only / "o.csv", code=2)
+        assert f"cannot write into {read_only}" in err and ".tmp" not in err
 
 
 def test_plot_max_points_zero(attitude_file):
     assert "--max-points" in refused("plot", attitude_file, "--max-points", "0", code=2)
+    assert "--euler" in refused("plot", attitude_file, "--euler", "QQQ", code=2)
 
 
 def test_simulate_refuses_an_impossible_size_before_allocating(tmp_path):

@@ -243,6 +243,8 @@ def run_file(function, path, output, kwargs: dict, quiet: bool) -> None:
     """Run one file command: progress bar, summary line, and bad input as a one-line error (exit 1)."""
     import click
 
+    if output:
+        writable_file(output, "-o/--output")  # before reading: not a hidden temp's name after the whole run
     bar = Progress(quiet)
     try:
         report = function(path, output, progress=bar, **kwargs)

@@ -50,7 +50,10 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
     from ..io import Angles
     from ..io.plots import plot_file
 
-    angles = Angles(seq, not radians, yaw_range)
+    try:
+        angles = Angles(seq, not radians, yaw_range)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--euler") from None
     folder = Path(out) if out else Path(path).parent
     writable_folder(folder, "--out")  # before the figures are drawn
     try:

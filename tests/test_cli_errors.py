@@ -151,6 +151,14 @@ def test_huge_readings_are_named_by_file_and_line_not_by_internal_arrays(tmp_pat
     assert "q[" not in err
     err = refused("integrate", src, "-o", tmp_path / "o.csv")
     assert "huge.csv: the integration failed on lines 2 to 201" in err and "line 100, column gx = 1e+300" in err
+    # turned axes (--body) and a split integration still name the file's own column and line
+    err = refused("integrate", src, "--frame", "ENU", "--body", "FRD", "-o", tmp_path / "o.csv")
+    assert "line 100, column gx = 1e+300" in err
+    src = write_table(tmp_path / "huge_y.csv", level(gy=(98, 1e300)))
+    err = refused("integrate", src, "--frame", "ENU", "--body", "FRD", "-o", tmp_path / "o.csv")
+    assert "line 100, column gy = 1e+300" in err
+    err = refused("batch", src, "integrate", "--split", "2", "-j", "1", "--no-unit-check", "--out", tmp_path / "s")
+    assert "huge_y.csv: the integration failed on lines 2 to 101" in err and "line 100, column gy = 1e+300" in err
     src = write_table(tmp_path / "acc.parquet", level(ay=(150, 1e300)))
     err = refused("estimate", src, "-e", "tilt", "--no-unit-check", "-o", tmp_path / "o.csv")
     assert "acc.parquet: the tilt estimator lost the attitude at row 150, column ay = 1e+300 m/s²" in err

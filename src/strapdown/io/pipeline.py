@@ -347,9 +347,8 @@ def integrate_axes(imu, frame, body, out_body, rate_frame: str, out: OutputSpec)
 
 
 def _turned(chunk, axes):
-    if axes.matrix is not None:
-        chunk = _slice(chunk, 0, len(chunk))
-        chunk.gyro = axes.rotate(chunk.gyro)
+    if axes.matrix is not None:  # a new chunk: the one read stays as read, for messages naming its columns
+        chunk = replace(chunk, gyro=axes.rotate(chunk.gyro))
     return chunk
 
 

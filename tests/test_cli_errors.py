@@ -219,6 +219,15 @@ def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
     # all truth occluded (NaN) on the movement samples: nothing to score
     err = refused("evaluate", broad_trial(tmp_path / "lost", quat=np.full((300, 4), np.nan)), code=2)
     assert "no movement sample has a true attitude" in err
+    # an estimate lost (NaN) after one absurd gyro reading scored 0.000: the errors skip NaN rows
+    folder = broad_trial(tmp_path / "huge")
+    import scipy.io
+
+    fields = scipy.io.loadmat(folder / "t1.mat")
+    fields["imu_gyr"][98, 0] = 1e300
+    scipy.io.savemat(folder / "t1.mat", fields)
+    err = refused("evaluate", folder, code=2)
+    assert "t1.mat: the estimate is lost (NaN) from sample 99 of 300 on, where imu_gyr is [1e+300, 0.0, 0.0]" in err
     # trials built in code bypass the loader: the evaluation itself refuses a NaN score
     trial = load_trials(broad_trial(tmp_path / "good"))[0]
     trial.quat[:] = 0.0

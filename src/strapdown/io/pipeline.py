@@ -327,7 +327,10 @@ def integrate_file(
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
-        report.notes.append(axes.describe())
+        if frame is None:
+            report.notes.append(f"attitude of the {axes.body} axes relative to themselves at t = 0 (turned by q0)")
+        else:
+            report.notes.append(axes.describe())
         report.notes.extend(run.notes)
         report.outputs = run.outputs
         return report
@@ -542,9 +545,9 @@ ON_GAP = ("error", "split", "restart")
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:
     axis = "xyz"[int(np.argmax(np.abs(bias)))]
     return (
-        f"warning: the gyro bias estimate reached its limit bias_limit = {np.degrees(limit):.3g} deg/s on the "
-        f"{axis} axis at t = {t:.6g} s ({where}), and is clipped there (the bias_at_limit column says where): the "
-        "gyro's bias may be larger (raise -p bias_limit_deg_s=...), or its readings in another unit (--gyro-unit)"
+        f"warning: the gyro bias estimate reached bias_limit = {np.degrees(limit):.3g} deg/s on the {axis} axis at "
+        f"t = {t:.6g} s ({where}); the bias_at_limit column says where.  A bias that large is beyond what the "
+        "estimator assumes of the sensor: check the gyro's unit (--gyro-unit), or raise -p bias_limit_deg_s=..."
     )
 
 
@@ -574,7 +577,7 @@ class _Segments:
             if self.splitter is not None and self.splitter.gaps:
                 listing = "; ".join(f"{a:.6g} s -> {b:.6g} s" for a, b in self.splitter.gaps[:5])
                 more = f" and {len(self.splitter.gaps) - 5} more" if len(self.splitter.gaps) > 5 else ""
-                how = "a file per segment" if self.on_gap == "split" else "started afresh after each"
+                how = "a file per segment" if self.on_gap == "split" else "started afresh after each gap"
                 self.notes.append(f"{len(self.splitter.gaps)} gap(s) ({how}): {listing}{more}")
         return self._stack.__exit__(*exc)
 

@@ -159,10 +159,17 @@ def csv_comments(metadata: Mapping[str, str] | None) -> str:
 
 
 def _number(text: str):
+    """A metadata value as a MATLAB number when float64 holds it exactly, else as text.
+
+    An epoch in nanoseconds (1.7e18) is past 2**53: as a double it would move by up to 128 ns, so it stays text.
+    """
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         return text
+    if text.strip().lstrip("+-").isdigit() and int(text) != int(value):
+        return text
+    return value
 
 
 def _batch(columns: Mapping[str, np.ndarray]):

@@ -159,6 +159,7 @@ def test_huge_readings_are_named_by_file_and_line_not_by_internal_arrays(tmp_pat
     assert "line 100, column gy = 1e+300" in err
     err = refused("batch", src, "integrate", "--split", "2", "-j", "1", "--no-unit-check", "--out", tmp_path / "s")
     assert "huge_y.csv: the integration failed on lines 2 to 101" in err and "line 100, column gy = 1e+300" in err
+    assert err.count("huge_y.csv") == 1  # the FAILED line names the file once
     src = write_table(tmp_path / "acc.parquet", level(ay=(150, 1e300)))
     err = refused("estimate", src, "-e", "tilt", "--no-unit-check", "-o", tmp_path / "o.csv")
     assert "acc.parquet: the tilt estimator lost the attitude at row 150, column ay = 1e+300 m/s²" in err

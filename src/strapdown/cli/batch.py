@@ -117,7 +117,7 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
                 report = integrate_split(f, o, parts=split, scheduler=scheduler, workers=workers, **kwargs)
             except (ValueError, OSError, ImportError, RuntimeError) as exc:
                 failed += 1
-                click.echo(f"FAILED {f}: {exc}", err=True)
+                click.echo(_failed(f, exc), err=True)
                 continue
             if not quiet:
                 click.echo(f"written: {report.output} ({report.rows} rows, {report.seconds:.2f} s, {split} parts)")
@@ -143,8 +143,14 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
         if r.ok and not quiet:
             click.echo(f"written: {r.output} ({r.rows} rows, {r.seconds:.2f} s)")
     for r in bad:
-        click.echo(f"FAILED {r.input}: {r.error}", err=True)
+        click.echo(_failed(r.input, r.error), err=True)
     if bad:
         raise click.ClickException(f"{len(bad)} of {len(results)} files failed: {', '.join(r.input for r in bad)}")
     if not quiet:
         click.echo(f"{len(results)} files written", err=True)
+
+
+def _failed(path, error) -> str:
+    """One FAILED line: the file's name once (most messages start with it already)."""
+    text = str(error)
+    return f"FAILED {text}" if text.startswith(f"{path}: ") else f"FAILED {path}: {text}"

@@ -644,7 +644,9 @@ def _culprit(imu, chunk, row: int | None = None) -> str:
         if v is None or kind not in imu.picks or not len(v):
             continue
         part = v if row is None else v[row : row + 1]
-        size = np.where(np.isfinite(part), np.abs(part) / typical, np.inf)
+        size = np.abs(part) / typical  # inf stays inf
+        # NaN: no sample of a slower sensor on the gyro's rows (imu.sparse), otherwise a reading gone wrong
+        size[np.isnan(size)] = 0.0 if kind in (getattr(imu, "sparse", None) or ()) else np.inf
         i, j = np.unravel_index(int(np.argmax(size)), size.shape)
         if best is None or size[i, j] > best[0]:
             best = (size[i, j], kind, i + (row or 0), j)

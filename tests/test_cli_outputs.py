@@ -383,3 +383,25 @@ def test_compare_runs_every_method_against_a_px4_logs_own_attitude():
     # and noise over the log's seconds, so not zero, and well under a degree
     final = float(rows["exact"][1])
     assert 1e-3 < final < 1.0
+
+
+def test_evaluate_grid_takes_degrees_with_the_unit_in_the_name(tmp_path):
+    import scipy.io
+
+    from strapdown.simulate import RandomMotion, sample
+
+    data = sample(RandomMotion(duration=10.0, seed=3), 100.0, gyro="average", reference="ENU", body="FLU")
+    movement = np.ones((len(data.q_true) - 1, 1), dtype=np.uint8)
+    scipy.io.savemat(
+        tmp_path / "01_trial.mat",
+        {"imu_gyr": data.gyro, "imu_acc": data.acc, "imu_mag": data.mag, "opt_quat": data.q_true[1:],
+         "movement": movement, "sampling_rate": np.array([[100.0]]), "opt_pos": np.zeros((len(movement), 3))},
+    )  # fmt: skip
+    deg = ok("evaluate", tmp_path, "-e", "tilt", "-g", "bias_limit_deg_s=1,4").stdout
+    rad = ok("evaluate", tmp_path, "-e", "tilt", "-g", f"bias_limit={np.pi / 180!r},{4 * np.pi / 180!r}").stdout
+
+    def numbers(text):
+        return [float(x) for x in re.findall(r"\b\d+\.\d+\b", text)]
+
+    assert numbers(deg) and numbers(deg) == pytest.approx(numbers(rad), rel=1e-9)
+    assert "not an angle" in run("evaluate", tmp_path, "-g", "tau_acc_deg=1,2").stderr

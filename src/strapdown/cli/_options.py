@@ -385,8 +385,8 @@ def param_units(estimator: str) -> dict[str, str]:
     return units
 
 
-def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
-    """``NAME=VALUE`` options as parameters: ``bias_limit_deg_s=5`` (degrees, unit in the name), ``bias_limit=0.087``.
+def param_name(estimator: str, name: str, option: str = "--param") -> tuple[str, float | None]:
+    """(parameter, factor to the library's unit or None) of a command-line name such as ``bias_limit_deg_s``.
 
     A name ending in ``_deg``, ``_deg_s`` or ``_dps`` gives a parameter that the library takes in radians (rad,
     rad/s, rad/s·√s) in degrees instead, the unit of the outputs; ``_rad`` and ``_rad_s`` say radians.
@@ -396,27 +396,44 @@ def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
     import click
 
     units = param_units(estimator)
-    out = {}
-    for text in assignments or ():
-        name, value = assignment(text, option)
-        base, scale = name, None
-        for suffix, factor in [(s, math.pi / 180) for s in _DEG_SUFFIXES] + [(s, 1.0) for s in _RAD_SUFFIXES]:
-            if name.endswith(suffix) and name[: -len(suffix)] in units:
-                base, scale = name[: -len(suffix)], factor
-                break
-        if scale is not None:
+    for suffix, factor in [(s, math.pi / 180) for s in _DEG_SUFFIXES] + [(s, 1.0) for s in _RAD_SUFFIXES]:
+        base = name[: -len(suffix)]
+        if name.endswith(suffix) and base in units:
             if not units[base].startswith("rad"):
                 raise click.BadParameter(
                     f"{base} of {estimator} is in {units[base] or 'no angular unit'}, not an angle or a rate: "
                     f"write {base}=VALUE",
                     param_hint=option,
                 )
-            if not isinstance(value, float):
-                raise click.BadParameter(f"{name} takes a number, got {value!r}", param_hint=option)
-            value = value * scale
+            return base, factor
+    return name, None
+
+
+def scaled(name: str, value, factor: float | None, option: str = "--param"):
+    """``value`` in the library's unit (``factor`` from :func:`param_name`)."""
+    import click
+
+    if factor is None:
+        return value
+    if not isinstance(value, float):
+        raise click.BadParameter(f"{name} takes a number, got {value!r}", param_hint=option)
+    return value * factor
+
+
+def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
+    """``NAME=VALUE`` options as parameters: ``bias_limit_deg_s=5`` (degrees, unit in the name), ``bias_limit=0.087``.
+
+    Units in names as for :func:`param_name`.
+    """
+    import click
+
+    out = {}
+    for text in assignments or ():
+        name, value = assignment(text, option)
+        base, factor = param_name(estimator, name, option)
         if base in out:
             raise click.BadParameter(f"{base} is given twice", param_hint=option)
-        out[base] = value
+        out[base] = scaled(name, value, factor, option)
     return out
 
 

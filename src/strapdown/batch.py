@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ._files import scratch_dir
-from .integrate import AttitudeIntegrator, integrate
+from .integrate import AttitudeIntegrator, SingularityError, integrate
 from .io.conventions import time_metadata
 from .io.imu import ImuColumns, ImuFile, _TimeCheck
 from .io.pipeline import (
@@ -39,6 +39,7 @@ from .io.pipeline import (
     Report,
     _metadata,
     _output_path,
+    _rows,
     convert_file,
     default_output,
     estimate_file,
@@ -424,14 +425,19 @@ def _part_stream(part: _Part, imu: ImuFile, box: dict):
     def tapped():
         m = None if part.turn is None else np.asarray(part.turn).reshape(3, 3)
         for chunk in imu.chunks(part.chunk_rows, part.start, part.stop):
+            box["chunk"] = chunk  # as read, for messages naming the file's columns
             if m is not None:
-                chunk.gyro = chunk.gyro @ m.T
+                chunk = replace(chunk, gyro=chunk.gyro @ m.T)
             box.setdefault("first_t", float(chunk.t[0]))
             box["last_t"] = float(chunk.t[-1])
             box["last_g"] = chunk.gyro[-1].copy()
             yield chunk
 
-    return integrate_stream(tapped(), method=part.method, input=part.input, rate_frame=part.rate_frame, rate=imu.rate)
+    stream = integrate_stream(tapped(), method=part.method, input=part.input, rate_frame=part.rate_frame, rate=imu.rate)
+    try:
+        yield from stream
+    except (ValueError, SingularityError) as exc:  # the integrator's words name no file
+        raise ValueError(f"{part.path}: the integration failed on {_rows(imu, box.get('chunk'))}: {exc}") from None
 
 
 def _part_end(part: _Part) -> dict:

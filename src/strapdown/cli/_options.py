@@ -132,7 +132,9 @@ def flight_options(gyro_option: str, gyro_default: str):
             show_default=True,
             help="Errors.",
         ),
-        click.option("--seed", default=0, show_default=True, help="Seed of the sensor errors."),
+        click.option(
+            "--seed", default=0, show_default=True, type=click.IntRange(min=0), help="Seed of the sensor errors."
+        ),
     ]
 
     def apply(f):
@@ -241,6 +243,8 @@ def run_file(function, path, output, kwargs: dict, quiet: bool) -> None:
     """Run one file command: progress bar, summary line, and bad input as a one-line error (exit 1)."""
     import click
 
+    if output:
+        writable_file(output, "-o/--output")  # before reading: not a hidden temp's name after the whole run
     bar = Progress(quiet)
     try:
         report = function(path, output, progress=bar, **kwargs)
@@ -472,8 +476,12 @@ def list_params(estimator: str) -> str:
 
 
 def writable_folder(folder, option: str) -> None:
-    """Refuse a folder that cannot be written before anything is computed (created when missing)."""
-    import os
+    """Refuse a folder that cannot be written before anything is computed (created when missing).
+
+    A file is really created and removed: ``os.access`` says yes to root everywhere, also on a read-only mount
+    or in ``/proc``, where the write after the computation would then fail.
+    """
+    import tempfile
     from pathlib import Path
 
     import click
@@ -482,8 +490,15 @@ def writable_folder(folder, option: str) -> None:
     probe = path
     while not probe.exists() and probe != probe.parent:
         probe = probe.parent
-    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
-        raise click.BadParameter(f"cannot write into {path} ({probe} is not a writable folder)", param_hint=option)
+    problem = None if probe.is_dir() else "is not a folder"
+    if problem is None:
+        try:
+            with tempfile.TemporaryFile(dir=probe, prefix=".strapdown-probe-"):
+                pass
+        except OSError as exc:
+            problem = f"is not writable: {exc.strerror or exc}"
+    if problem:
+        raise click.BadParameter(f"cannot write into {path} ({probe} {problem})", param_hint=option)
 
 
 def writable_file(file, option: str) -> None:
@@ -494,9 +509,24 @@ def writable_file(file, option: str) -> None:
     import click
 
     path = Path(file)
+    if path.is_dir():
+        raise click.BadParameter(f"cannot write {path}: it is a folder", param_hint=option)
     if path.exists() and not os.access(path, os.W_OK):
         raise click.BadParameter(f"cannot write {path}: it is read-only", param_hint=option)
     writable_folder(path.parent if str(path.parent) else ".", option)
+
+
+def check_samples(rate: float, seconds: float, option: str = "--rate") -> None:
+    """Refuse a simulation too large to hold, before anything is allocated: say how many samples it means."""
+    import click
+
+    samples = rate * seconds
+    if samples > MAX_SIMULATED_ROWS:
+        raise click.BadParameter(
+            f"{seconds:g} s at {rate:g} Hz would be {samples:.3g} samples; at most {MAX_SIMULATED_ROWS:.0e} are "
+            "simulated at once (lower --rate or the duration)",
+            param_hint=option,
+        )
 
 
 #: Rows a simulation may write at most: 10^8 rows of 17 columns are about 14 GB in memory.

@@ -93,7 +93,10 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
         raise click.UsageError(str(exc)) from None
     click.echo(result.table())
     if csv_path:
-        result.to_csv(csv_path)
+        try:
+            result.to_csv(csv_path)
+        except OSError as exc:  # a full disk: checked writable, still not written
+            raise click.ClickException(f"cannot write {csv_path}: {exc}") from None
         click.echo(f"written: {csv_path}")
 
 

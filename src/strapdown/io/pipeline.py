@@ -350,9 +350,8 @@ def integrate_axes(imu, frame, body, out_body, rate_frame: str, out: OutputSpec)
 
 
 def _turned(chunk, axes):
-    if axes.matrix is not None:
-        chunk = _slice(chunk, 0, len(chunk))
-        chunk.gyro = axes.rotate(chunk.gyro)
+    if axes.matrix is not None:  # a new chunk: the one read stays as read, for messages naming its columns
+        chunk = replace(chunk, gyro=axes.rotate(chunk.gyro))
     return chunk
 
 
@@ -535,9 +534,8 @@ def estimate_file(
                 if lost.size:
                     i = int(lost[0])
                     raise ValueError(
-                        f"{path}: the {estimator} estimator lost the attitude at {imu.where(chunk.row + i)} (gyro "
-                        f"{_triad(chunk.gyro[i])} rad/s, acc {_triad(chunk.acc, i)} m/s²): readings that large are "
-                        "not plausible; check that row and the units"
+                        f"{path}: the {estimator} estimator lost the attitude at {_culprit(imu, chunk, i)}: a "
+                        "reading that large is not plausible; check that row and the units"
                     )
                 at_limit = None
                 if limit and e.bias is not None:
@@ -643,19 +641,48 @@ class _Segments:
         self.rows += len(columns["t"])
 
 
-def _triad(v, i=None) -> str:
-    if v is None:
-        return "none"
-    v = v if i is None else v[i]
-    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+#: Readings of a common size in SI units, to find the one most out of scale: rad/s (or rad), m/s², µT.
+_TYPICAL = {"gyro": 1.0, "acc": 9.81, "mag": 50.0}
+_SI = {"gyro": "rad/s", "acc": "m/s²", "mag": "µT"}
+
+
+def _culprit(imu, chunk, row: int | None = None) -> str:
+    """The reading of a chunk (or of one of its rows) most out of scale, by line and column, for messages.
+
+    A non-finite reading comes first, then the largest relative to its quantity's usual size.  The unit check
+    looks at a percentile of the first rows, so one absurd value further on gets through it and fails in the
+    integrator or the filter, whose words name their own arrays: this names the file's line and column instead.
+    """
+    best = None
+    for kind, typical in _TYPICAL.items():
+        v = getattr(chunk, kind, None)
+        if v is None or kind not in imu.picks or not len(v):
+            continue
+        part = v if row is None else v[row : row + 1]
+        size = np.abs(part) / typical  # inf stays inf
+        # NaN: no sample of a slower sensor on the gyro's rows (imu.sparse), otherwise a reading gone wrong
+        size[np.isnan(size)] = 0.0 if kind in (getattr(imu, "sparse", None) or ()) else np.inf
+        i, j = np.unravel_index(int(np.argmax(size)), size.shape)
+        if best is None or size[i, j] > best[0]:
+            best = (size[i, j], kind, i + (row or 0), j)
+    if best is None:
+        return "no reading"
+    _, kind, i, j = best
+    fields = imu.picks[kind].fields
+    column = fields[j] if len(fields) == 3 else f"{fields[0]}[{j}]"
+    unit = "rad" if kind == "gyro" and getattr(imu, "increments", False) else _SI[kind]
+    return f"{imu.where(chunk.row + i)}, column {column} = {getattr(chunk, kind)[i, j]:.4g} {unit}"
 
 
 def _rows(imu, chunk) -> str:
-    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file)."""
+    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file), and its worst reading."""
     if chunk is None:
         return "its first rows"
     first, last = imu.where(chunk.row), imu.where(chunk.row + len(chunk) - 1)
-    return f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the readings there are not plausible)"
+    return (
+        f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the reading most out of scale there: "
+        f"{_culprit(imu, chunk)})"
+    )
 
 
 def _slice(chunk, a: int, b: int):
@@ -757,9 +784,46 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
             raise RowError(int(big[0]), f"an angle beyond ±{limit:.3g} {unit}: no digits are left below a turn")
     out = np.full((values.shape[0], REPRESENTATIONS[target]), np.nan)
     if ok.any():
-        q = from_values(source, values[ok], angles_in)
-        out[ok] = to_values(target, q, angles_out)
+        rows = values[ok]
+        if source == "quat":
+            # a quaternion's attitude does not depend on its scale: bring the largest component to 1 first, so
+            # that 1e300 or 5e-324 components neither overflow nor underflow the norm (exact: a division)
+            rows = rows / np.abs(rows).max(axis=1, keepdims=True)
+        try:
+            converted = to_values(target, from_values(source, rows, angles_in), angles_out)
+        except ValueError:
+            row, problem = _first_refused(rows, source, target, angles_in, angles_out)
+            raise RowError(int(np.flatnonzero(ok)[row]), problem) from None
+        bad = np.flatnonzero(~np.isfinite(converted).all(axis=1))
+        if bad.size:  # a Gibbs vector of a half turn, say: no finite number says it
+            row = int(np.flatnonzero(ok)[bad[0]])
+            raise RowError(row, f"an attitude the {target} representation cannot hold ({converted[bad[0]].tolist()})")
+        out[ok] = converted
     return out
+
+
+def _first_refused(rows, source, target, angles_in, angles_out) -> tuple[int, str]:
+    """The first row the conversion refuses, found by halving (only after a failure), and the reason.
+
+    The library names its own arrays and their indices ("c[0] is not a rotation matrix"): the reason is given
+    without that name, for the caller to put the file's line in front.
+    """
+    lo, hi = 0, len(rows)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        try:
+            to_values(target, from_values(source, rows[lo:mid], angles_in), angles_out)
+        except ValueError:
+            hi = mid
+        else:
+            lo = mid
+    try:
+        to_values(target, from_values(source, rows[lo:hi], angles_in), angles_out)
+    except ValueError as exc:
+        reason = re.sub(r"^[A-Za-z_]\w*(\[0\])? (is )?", "", str(exc))
+    else:  # pragma: no cover - the rows fail together but no row alone
+        reason = "values the conversion refuses"
+    return lo, f"values the {source} to {target} conversion refuses ({reason})"
 
 
 class RowError(ValueError):

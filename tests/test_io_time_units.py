@@ -224,3 +224,24 @@ def test_a_gyro_in_deg_s_read_as_rad_s_at_rest_is_refused(tmp_path):
     # a turntable: 1 rad/s about the vertical with gravity steady in the body is no contradiction
     cols["gx"], cols["gy"], cols["gz"] = np.zeros(len(deg)), np.zeros(len(deg)), np.ones(len(deg))
     assert ImuFile(write_table(tmp_path / "turn.csv", cols), optional=("acc",)).units["gyro"] == "rad/s"
+
+
+def test_a_reference_table_gets_its_time_unit_as_the_imu_does(tmp_path):
+    """Epoch nanoseconds (integers) and a ``timestamp_ms`` column are turned into seconds; no time is an error."""
+    ns = tmp_path / "ref_ns.csv"
+    stamps = 1718030736872695300 + np.arange(5) * 10_000_000  # 100 Hz, past float64's 2**53
+    ns.write_text("time,qw,qx,qy,qz\n" + "".join(f"{x},1,0,0,0\n" for x in stamps))
+    ref = read_reference(ns)
+    np.testing.assert_allclose(ref.t, np.arange(5) * 0.01, rtol=0, atol=1e-12)
+    assert ref.time_origin.kind == "epoch" and ref.time_origin.value == int(stamps[0])
+    ms = tmp_path / "ref_ms.csv"
+    ms.write_text("timestamp_ms,qw,qx,qy,qz\n0,1,0,0,0\n10,1,0,0,0\n20,1,0,0,0\n")
+    np.testing.assert_allclose(read_reference(ms).t, [0.0, 0.01, 0.02], rtol=0, atol=1e-15)
+    slow = tmp_path / "ref_slow.csv"
+    slow.write_text("t,qw,qx,qy,qz\n0.0,1,0,0,0\n4000.0,1,0,0,0\n8000.0,1,0,0,0\n")  # seconds: 4000 s steps
+    with pytest.raises(ValueError, match=r"ref_slow.csv.*'t'"):
+        read_reference(slow)
+    none = tmp_path / "ref_none.csv"
+    none.write_text("qw,qx,qy,qz\n1,0,0,0\n1,0,0,0\n")
+    with pytest.raises(ValueError, match=r"ref_none.csv has attitudes .* but no time column"):
+        read_reference(none)

@@ -239,8 +239,7 @@ def merge_streams(
                     f"{stream.path}: its time column {stream.time_field!r} is {what} but the gyro file's is not; "
                     "the files must share a clock"
                 )
-            offset = stream.first - gyro.first  # exact for integers: both are Python ints
-            values = place_on_rows(gyro.t, stream.t + offset, stream.values)
+            values = place_on_rows(*_common_clock(gyro, unit, stream, time_unit), stream.values)
             if np.isnan(values).all(axis=1).any():
                 sparse.update(names)
         for i, n in enumerate(names):
@@ -253,6 +252,23 @@ def merge_streams(
     kind = origin_kind or origin_of(gyro.first, unit).kind
     src.time_origin = TimeOrigin(gyro.first, unit, kind)
     return src
+
+
+_NS = {"ns": 1, "us": 1_000, "ms": 1_000_000, "s": 1_000_000_000}  # integer factors: exact for integer clocks
+
+
+def _common_clock(gyro: Stream, unit: str, stream: Stream, declared: str | None):
+    """The gyro's and another stream's times in one unit, from the gyro's first sample.
+
+    A file whose time column names its own unit (``time_us`` beside a gyro's ``time_ns``) is converted: taken
+    in the gyro's unit, none of its samples would land near a gyro row and the sensor would silently vanish.
+    """
+    own = unit if declared else (_hint(stream.time_field) or unit)
+    if own == unit:
+        return gyro.t, stream.t + (stream.first - gyro.first)  # exact for integers: both are Python ints
+    factor = _NS if stream.integer else _PER_S
+    offset = stream.first * factor[own] - gyro.first * factor[unit]  # Python ints for integer clocks
+    return gyro.t * factor[unit], stream.t * factor[own] + offset
 
 
 def _hint(name: str) -> str | None:

@@ -308,3 +308,11 @@ def test_files_whose_time_columns_name_different_units_share_one_clock(tmp_path,
     got = read_imu([gyro, acc], optional=("acc",))
     np.testing.assert_allclose(got.t, k * 0.01, rtol=0, atol=1e-9)
     np.testing.assert_array_equal(got.acc[:, 0], k)  # every row its own sample, none dropped
+
+
+def test_a_sensor_file_on_another_clock_is_refused_not_dropped(tmp_path):
+    gyro, mag = tmp_path / "Gyroscope.csv", tmp_path / "Magnetometer.csv"
+    gyro.write_text("time,x,y,z\n" + "".join(f"{1718030736000000000 + k * 10_000_000},0,0,0\n" for k in range(50)))
+    mag.write_text("time,x,y,z\n" + "".join(f"{k * 100_000_000},20,0,-40\n" for k in range(5)))  # since boot
+    with pytest.raises(ValueError, match=r"Magnetometer.csv: none of its 5 samples .* do not share a clock"):
+        read_imu([gyro, mag], optional=("mag",))

@@ -239,7 +239,15 @@ def merge_streams(
                     f"{stream.path}: its time column {stream.time_field!r} is {what} but the gyro file's is not; "
                     "the files must share a clock"
                 )
-            values = place_on_rows(*_common_clock(gyro, unit, stream, time_unit), stream.values)
+            rows, times, clock = _common_clock(gyro, unit, stream, time_unit)
+            values = place_on_rows(rows, times, stream.values)
+            if stream.t.size and rows.size and np.isnan(values).all():  # a sensor vanishing is no answer
+                raise ValueError(
+                    f"{stream.path}: none of its {stream.t.size} samples lies within a sample period of the gyro's "
+                    f"rows ({gyro.path.name}): its times run {float(times[0]):.6g} .. {float(times[-1]):.6g} and "
+                    f"the gyro's 0 .. {float(rows[-1]):.6g} ({clock} from the gyro's first sample); the files do "
+                    "not share a clock"
+                )
             if np.isnan(values).all(axis=1).any():
                 sparse.update(names)
         for i, n in enumerate(names):
@@ -258,17 +266,17 @@ _NS = {"ns": 1, "us": 1_000, "ms": 1_000_000, "s": 1_000_000_000}  # integer fac
 
 
 def _common_clock(gyro: Stream, unit: str, stream: Stream, declared: str | None):
-    """The gyro's and another stream's times in one unit, from the gyro's first sample.
+    """The gyro's and another stream's times in one unit (returned third), from the gyro's first sample.
 
     A file whose time column names its own unit (``time_us`` beside a gyro's ``time_ns``) is converted: taken
     in the gyro's unit, none of its samples would land near a gyro row and the sensor would silently vanish.
     """
     own = unit if declared else (_hint(stream.time_field) or unit)
     if own == unit:
-        return gyro.t, stream.t + (stream.first - gyro.first)  # exact for integers: both are Python ints
+        return gyro.t, stream.t + (stream.first - gyro.first), unit  # exact for integers: both are Python ints
     factor = _NS if stream.integer else _PER_S
     offset = stream.first * factor[own] - gyro.first * factor[unit]  # Python ints for integer clocks
-    return gyro.t * factor[unit], stream.t * factor[own] + offset
+    return gyro.t * factor[unit], stream.t * factor[own] + offset, "ns" if stream.integer else "s"
 
 
 def _hint(name: str) -> str | None:

@@ -245,3 +245,15 @@ def test_a_reference_table_gets_its_time_unit_as_the_imu_does(tmp_path):
     none.write_text("qw,qx,qy,qz\n1,0,0,0\n1,0,0,0\n")
     with pytest.raises(ValueError, match=r"ref_none.csv has attitudes .* but no time column"):
         read_reference(none)
+
+
+def test_a_reference_with_date_times_keeps_their_epoch_origin(tmp_path):
+    pa, pq = pytest.importorskip("pyarrow"), pytest.importorskip("pyarrow.parquet")
+    stamps = np.datetime64("2024-06-10T14:45:36", "ns") + np.arange(5) * np.timedelta64(10, "ms")
+    one, zero = np.ones(5), np.zeros(5)
+    pq.write_table(
+        pa.table({"time": pa.array(stamps), "qw": one, "qx": zero, "qy": zero, "qz": zero}), tmp_path / "r.pq"
+    )
+    ref = read_reference(tmp_path / "r.pq", format="parquet")
+    np.testing.assert_allclose(ref.t, np.arange(5) * 0.01, rtol=0, atol=1e-12)
+    assert ref.time_origin.kind == "epoch" and ref.time_origin.value == int(stamps[0].astype(np.int64))

@@ -134,8 +134,14 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
         parts = [cols for _, cols in src.chunks([*names, name], 1 << 20, relative=relative)]
         cols = {n: np.concatenate([p[n] for p in parts]) for n in (*names, name)}
         unit = _time_unit(src, time, cols[name], bool(relative), path)
-        first = src.origins.get(name) if relative else (cols[name][0] if cols[name].size else None)
-        origin = getattr(src, "time_origin", None) or (None if first is None else origin_of(first, unit))
+        origin_unit = unit
+        if src.is_timestamp(name):  # date-times: seconds from the first one, which is kept as epoch ns
+            stamp = src.origins.get(name)
+            first = None if stamp is None else int(np.datetime64(stamp, "ns").astype(np.int64))
+            origin_unit = "ns"
+        else:
+            first = src.origins.get(name) if relative else (cols[name][0] if cols[name].size else None)
+        origin = getattr(src, "time_origin", None) or (None if first is None else origin_of(first, origin_unit))
     q = np.column_stack([cols[n] for n in names])
     t = cols[name] * scale("time", unit)
     meta = read_metadata(path, fmt) if fmt in ("csv", "parquet", "hdf5", "mat") else {}

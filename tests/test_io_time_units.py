@@ -6,7 +6,16 @@ Every file here is written by the test itself (simulated or synthetic values).
 import numpy as np
 import pytest
 
-from strapdown.io import ImuColumns, ImuFile, open_source, read_imu, read_metadata, read_reference, read_table
+from strapdown.io import (
+    ImuColumns,
+    ImuFile,
+    open_source,
+    read_imu,
+    read_metadata,
+    read_reference,
+    read_table,
+    write_table,
+)
 from strapdown.io.timebase import infer_time_unit
 
 PER_S = {"ns": 1e9, "us": 1e6, "ms": 1e3}
@@ -257,3 +266,24 @@ def test_a_reference_with_date_times_keeps_their_epoch_origin(tmp_path):
     ref = read_reference(tmp_path / "r.pq", format="parquet")
     np.testing.assert_allclose(ref.t, np.arange(5) * 0.01, rtol=0, atol=1e-12)
     assert ref.time_origin.kind == "epoch" and ref.time_origin.value == int(stamps[0].astype(np.int64))
+
+
+def test_a_truth_table_in_epoch_ns_is_put_on_the_estimates_instants(tmp_path):
+    """A motion-capture table stamped in epoch ns, starting 1 s before the estimate: the shift comes from the stamps."""
+    from strapdown.io.truth import align_truth
+
+    rate, e0 = 0.5, 1718030736000000000  # rad/s about z; the truth's first stamp
+    t_est = np.arange(300) * 0.01
+    angle = rate * (t_est + 1.0)
+    zero = np.zeros_like(angle)
+    est = {"t": t_est, "qw": np.cos(angle / 2), "qx": zero, "qy": zero, "qz": np.sin(angle / 2)}
+    origin = {"time_origin": str(e0 + 10**9), "time_origin_unit": "ns", "time_origin_kind": "epoch"}
+    write_table(tmp_path / "est.csv", est, metadata={"frame": "NED", "body": "FRD", **origin})
+    stamps = e0 + np.arange(500) * 10_000_000
+    a = rate * (stamps - e0) * 1e-9
+    cells = zip(stamps, np.cos(a / 2), np.sin(a / 2), strict=True)
+    rows = "".join(f"{s},{float(w)!r},0,0,{float(z)!r}\n" for s, w, z in cells)
+    (tmp_path / "truth.csv").write_text("# frame: NED\n# body: FRD\ntime,qw,qx,qy,qz\n" + rows)
+    aligned = align_truth(tmp_path / "est.csv", tmp_path / "truth.csv")
+    assert aligned.rows.all()
+    np.testing.assert_allclose(aligned.q[:, [0, 3]], np.stack([est["qw"], est["qz"]], -1), rtol=0, atol=1e-12)

@@ -124,7 +124,9 @@ def align_truth(estimate, truth, *, truth_frame: str | None = None, truth_body: 
             ref.q = q
     # the same instant for t = 0: shift the truth when both files store absolute origins of one kind
     shift = 0.0
-    a, b = _origin_seconds(est_meta), _origin_seconds(truth_meta)
+    # the truth's origin from its metadata, else from its own time column (epoch ns of a motion-capture table)
+    a = _origin_seconds(est_meta)
+    b = _origin_seconds(truth_meta) or _origin_seconds(ref.time_origin.metadata() if ref.time_origin else {})
     if a and b and a[0] == b[0]:
         shift = b[1] - a[1]
     rt = ref.t + shift

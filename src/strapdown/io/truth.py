@@ -15,9 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .units import UNITS
+
 __all__ = ["AlignedTruth", "align_truth", "write_aligned"]
 
-_UNIT_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+_UNIT_SECONDS = UNITS["time"]  # s per unit
 
 
 @dataclass

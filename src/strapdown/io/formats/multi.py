@@ -23,7 +23,7 @@ from ..merge import place_on_rows
 from ..registry import Format, register
 from ..source import MemorySource, Source, TimeOrigin
 from ..timebase import check_period, infer_time_unit, origin_of
-from ..units import parse_unit
+from ..units import UNITS, parse_unit
 
 __all__ = ["Stream", "kind_of_file", "merge_streams", "open_files", "read_stream"]
 
@@ -32,7 +32,7 @@ _NAMES = {
     "acc": re.compile(r"acc|specificforce", re.IGNORECASE),
     "mag": re.compile(r"magnet|(^|[^a-z])mag|compass", re.IGNORECASE),  # not "Image"
 }
-_PER_S = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+_PER_S = UNITS["time"]  # s per unit
 #: Largest total size of the files taken out of one zip, bytes (a zip bomb stops here).
 MAX_UNZIPPED_BYTES = 4 << 30
 

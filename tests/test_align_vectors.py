@@ -130,3 +130,12 @@ def test_scipy_align_constrain_values():
     q, rssd = align_vectors([[-1.0, 3, 2], [1, -1, 2]], [[1.0, 2, 3], [-2, 3, -1]], [np.inf, 1])
     np.testing.assert_allclose(Attitude(q).apply([1.0, 2, 3]), [-1, 3, 2], atol=1e-12)
     assert abs(rssd - 1.3101595297515016) < 1e-12
+
+
+def test_one_pair_with_an_infinite_weight_has_zero_rssd():
+    """The constrained pair is met exactly and adds nothing to the rssd, as in scipy (0.0), not inf · rounding."""
+    q, rssd = align_vectors([1.0, 0, 0], [0.0, 1, 0], weights=[np.inf])
+    assert rssd == 0.0
+    np.testing.assert_allclose(Attitude(q).apply([0.0, 1, 0]), [1, 0, 0], atol=1e-15)
+    _, rssd = align_vectors([2.0, 0, 0], [0.0, 1, 0], weights=[4.0])  # a finite weight still weighs: √(4 · 1²)
+    assert rssd == pytest.approx(2.0, abs=1e-15)

@@ -231,3 +231,16 @@ def test_array_conversion_is_zero_copy_and_arithmetic_is_refused(rng):
         np.float64(2.0) * a
     with pytest.raises(TypeError):
         np.add(a, a)
+
+
+def test_mean_axes_are_numbered_in_the_attitudes_shape(rng):
+    """``axis=-1`` is the Attitude's last axis (as for numpy arrays of that shape), not q's component axis."""
+    a = Attitude(Rotation.random(12, rng=rng).as_quat(scalar_first=True).reshape(3, 4, 4), "NED", "FRD")
+    for axis, want_shape in ((-1, (3,)), (1, (3,)), (-2, (4,)), ((0, -1), ())):
+        m = a.mean(axis=axis)
+        assert m.shape == want_shape and (m.reference, m.body) == ("NED", "FRD")
+    for i in range(3):  # each row's mean is scipy's mean of that row
+        want = scipy_of(a[i]).mean().as_quat(scalar_first=True)
+        assert rotation_angle(a.mean(axis=-1).q[i], want) < 1e-12
+    with pytest.raises(ValueError, match=r"axis 2 is out of range for an Attitude of shape \(3, 4\)"):
+        a.mean(axis=2)

@@ -1,5 +1,7 @@
 """Magnetometer calibration on simulated readings with exact truth (hard iron, soft iron, noise, outliers)."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -138,6 +140,11 @@ def test_nan_rows_skipped_json_round_trip_and_float32(tmp_path):
     (tmp_path / "bad.json").write_text('{"format": "other"}')
     with pytest.raises(ValueError, match="not a strapdown calibration file"):
         Calibration.load(tmp_path / "bad.json")
+    doc = json.loads((tmp_path / "cal.json").read_text())
+    doc["calibrations"] *= 2  # one sensor twice: which one applies would be an accident of order
+    (tmp_path / "twice.json").write_text(json.dumps(doc))
+    with pytest.raises(ValueError, match=r"twice.json holds two magnetometer calibrations \(entries 0 and 1\)"):
+        load(tmp_path / "twice.json")
 
 
 def test_a_small_patch_of_directions_is_refused():

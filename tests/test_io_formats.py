@@ -291,3 +291,28 @@ def test_one_sensor_per_file_with_bare_xyz_columns(tmp_path):
     a.write_text("t,x,y,z\n" + "".join(f"{0.02 * k + 0.001:.3f},0,0,9.8\n" for k in range(5)))
     got = read_imu([g, a], optional=("acc",))
     assert np.isnan(got.acc[1::2]).all() and (got.acc[::2, 2] == 9.8).all()
+
+
+@pytest.mark.parametrize("integer", [True, False])
+def test_files_whose_time_columns_name_different_units_share_one_clock(tmp_path, integer):
+    """A gyro file in ns (s) and an accelerometer file in us (ms): each sample lands on its own gyro row."""
+    n = 50
+    k = np.arange(n)
+    if integer:
+        t_gyro, t_acc, names = 1718030736000000000 + k * 10_000_000, 1718030736000000 + k * 10_000, ("ns", "us")
+    else:
+        t_gyro, t_acc, names = 12.5 + k * 0.01, 12500.0 + k * 10.0, ("s", "ms")
+    gyro, acc = tmp_path / "Gyroscope.csv", tmp_path / "Accelerometer.csv"
+    gyro.write_text(f"time_{names[0]},x,y,z\n" + "".join(f"{t},0,0,0.1\n" for t in t_gyro))
+    acc.write_text(f"time_{names[1]},x,y,z\n" + "".join(f"{t},{i},0,9.81\n" for i, t in enumerate(t_acc)))
+    got = read_imu([gyro, acc], optional=("acc",))
+    np.testing.assert_allclose(got.t, k * 0.01, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(got.acc[:, 0], k)  # every row its own sample, none dropped
+
+
+def test_a_sensor_file_on_another_clock_is_refused_not_dropped(tmp_path):
+    gyro, mag = tmp_path / "Gyroscope.csv", tmp_path / "Magnetometer.csv"
+    gyro.write_text("time,x,y,z\n" + "".join(f"{1718030736000000000 + k * 10_000_000},0,0,0\n" for k in range(50)))
+    mag.write_text("time,x,y,z\n" + "".join(f"{k * 100_000_000},20,0,-40\n" for k in range(5)))  # since boot
+    with pytest.raises(ValueError, match=r"Magnetometer.csv: none of its 5 samples .* do not share a clock"):
+        read_imu([gyro, mag], optional=("mag",))

@@ -101,7 +101,7 @@ def align_vectors(a, b, weights=None, *, check: bool = True):
             q = multiply(from_axis_angle(axis, phi, check=False), q, check=False)
     else:
         q = davenport(b2, a2, w, normalize=False, check=check)
-    finite = np.where(infinite, 0.0, w) if m > 1 else w
+    finite = np.where(infinite, 0.0, w)  # the primary pair is met exactly: it adds nothing (not inf · 0)
     residual = a2 - rotate(q[..., None, :], b2, check=False)
     rssd = np.sqrt(np.einsum("n,...n->...", finite, np.einsum("...ni,...ni->...n", residual, residual)))
     shape = av.shape[:-2] if av.ndim >= 2 else ()

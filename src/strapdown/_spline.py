@@ -61,7 +61,7 @@ class RotationSpline:
     q : numpy.ndarray, shape (n, ..., 4)
         The unit, sign-continuous attitudes at the knots (float64).
     rates : numpy.ndarray, shape (n, ..., 3)
-        Body rates at the knots.
+        Body rates at the knots (float64, per unit of t).
     iterations : int
         Fixed-point iterations the knot rates took.
 

@@ -183,7 +183,24 @@ class Attitude:
     # ------------------------------------------------------------------------------------------------ constructors
     @classmethod
     def from_quat(cls, q, *, scalar_first: bool = True, reference=None, body=None, check: bool = True) -> Attitude:
-        """From quaternions, scalar first by default (``scalar_first=False``: scipy's ``[x, y, z, w]``)."""
+        """From quaternions, scalar first by default (``scalar_first=False``: scipy's ``[x, y, z, w]``).
+
+        Parameters
+        ----------
+        q : array_like, shape (..., 4)
+            Non-zero quaternions, body to ``reference``; they are normalised.
+        scalar_first : bool
+            ``[w, x, y, z]`` (default) or scipy's ``[x, y, z, w]``.
+        reference, body : str, optional
+            Frame names (axis letters such as ``"NED"`` and ``"FRD"``, or any name).
+        check : bool
+            Reject NaN, infinities and zero quaternions (default).
+
+        Returns
+        -------
+        Attitude
+            Shape ``q.shape[:-1]``, float32 for float32 input.
+        """
         arr = _v.quaternions(q, "q", check=check)
         if not scalar_first:
             arr = np.roll(arr, 1, axis=-1)
@@ -253,7 +270,22 @@ class Attitude:
 
     @classmethod
     def identity(cls, shape=(), *, reference=None, body=None, dtype=np.float64) -> Attitude:
-        """Identity attitudes of the given leading shape (an int or a tuple)."""
+        """Identity attitudes of the given leading shape.
+
+        Parameters
+        ----------
+        shape : int or tuple of int
+            Leading shape; ``()`` (default) gives one attitude.
+        reference, body : str, optional
+            Frame names.
+        dtype : numpy dtype
+            float64 (default) or float32.
+
+        Returns
+        -------
+        Attitude
+            ``[1, 0, 0, 0]`` everywhere.
+        """
         from .quaternion import identity
 
         return cls._wrap(identity(shape, dtype), _name(reference, "reference"), _name(body, "body"))
@@ -272,6 +304,11 @@ class Attitude:
             Leading shape instead of ``num``.
         reference, body : str, optional
             Frame names.
+
+        Returns
+        -------
+        Attitude
+            Shape ``()``, ``(num,)`` or ``shape``; float64.
         """
         if num is not None and shape is not None:
             raise ValueError("give num or shape, not both")
@@ -294,7 +331,23 @@ class Attitude:
 
     @classmethod
     def concatenate(cls, attitudes) -> Attitude:
-        """One stack from several Attitudes (single ones count as one row) with the same frames."""
+        """One stack from several Attitudes (single ones count as one row) with the same frames.
+
+        Parameters
+        ----------
+        attitudes : Attitude or sequence of Attitude
+            Attitudes of shape ``()`` or ``(n_i, ...)``, all with the same reference and body names.
+
+        Returns
+        -------
+        Attitude
+            Shape ``(sum n_i, ...)``.
+
+        Raises
+        ------
+        ValueError
+            When the frames differ (the message names the first one that does and how to re-express it).
+        """
         items = [attitudes] if isinstance(attitudes, Attitude) else list(attitudes)
         if not items or not all(isinstance(a, Attitude) for a in items):
             raise ValueError("concatenate needs a non-empty sequence of Attitude objects")
@@ -366,13 +419,33 @@ class Attitude:
 
     # ------------------------------------------------------------------------------------------------ algebra
     def inv(self) -> Attitude:
-        """The inverse attitudes, reference to body: the frame names swap."""
+        """The inverse attitudes, reference to body: the frame names swap.
+
+        Returns
+        -------
+        Attitude
+            The conjugate quaternions, ``reference`` and ``body`` exchanged.
+        """
         from .quaternion import conjugate
 
         return Attitude._wrap(conjugate(self._q, check=False), self._body, self._reference)
 
     def apply(self, vectors, inverse: bool = False) -> np.ndarray:
-        """Body vectors into the reference frame (or back with ``inverse=True``); leading axes broadcast."""
+        """Body vectors into the reference frame (or back with ``inverse=True``): ``v_ref = q ⊗ v_body ⊗ q*``.
+
+        Parameters
+        ----------
+        vectors : array_like, shape (..., 3)
+            Vectors in ``body`` axes (``reference`` axes with ``inverse=True``), any units; leading axes
+            broadcast against the attitudes' shape.
+        inverse : bool
+            Apply the inverse rotation, reference to body.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            The vectors in the other frame, same units.
+        """
         from .quaternion import conjugate, rotate
 
         q = conjugate(self._q, check=False) if inverse else self._q
@@ -434,15 +507,33 @@ class Attitude:
         return self._like(from_rotvec(as_rotvec(self._q, check=False) * t[..., None].astype(self.dtype), check=False))
 
     def magnitude(self) -> np.ndarray:
-        """Rotation angles in [0, π], shape ``self.shape``."""
+        """Rotation angles of the attitudes, ``2 atan2(|v|, |w|)``.
+
+        Returns
+        -------
+        numpy.ndarray, shape ``self.shape``
+            Radians, in [0, π].
+        """
         from .quaternion import _norm3
 
         return 2 * np.arctan2(_norm3(self._q[..., 1:]), np.abs(self._q[..., 0]))
 
     def approx_equal(self, other: Attitude, atol: float | None = None, degrees: bool = False) -> np.ndarray:
-        """Whether the rotation angle between ``self`` and ``other`` is at most ``atol`` (default 1e-8 rad).
+        """Whether the rotation angle between ``self`` and ``other`` is at most ``atol``.
 
-        Both must have the same frames (a ValueError otherwise); shapes broadcast.
+        Parameters
+        ----------
+        other : Attitude
+            Attitudes with the same frames (a ValueError otherwise); shapes broadcast.
+        atol : float, optional
+            Largest angle, radians (degrees with ``degrees=True``); default 1e-8 rad.
+        degrees : bool
+            ``atol`` in degrees.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            One per attitude (q and -q count as equal).
         """
         from .quaternion import angle_between
 
@@ -460,9 +551,30 @@ class Attitude:
                 )
 
     def mean(self, weights=None, axis=None) -> Attitude:
-        """Weighted chordal L2 mean (Markley et al. 2007; :func:`strapdown.average.mean`), frames kept."""
+        """Weighted chordal L2 mean (Markley et al. 2007; :func:`strapdown.average.mean`), frames kept.
+
+        Parameters
+        ----------
+        weights : array_like, optional
+            Non-negative weights, broadcast against the attitudes; equal by default.
+        axis : int or tuple of int, optional
+            Axes of ``self.shape`` to average over (``-1`` is the last of them); all by default.
+
+        Returns
+        -------
+        Attitude
+            The mean attitude(s).
+        """
         from .average import mean
 
+        if axis is not None:
+            # numbered in the Attitude's shape; average.mean numbers them in q's, whose last axis holds w, x, y, z
+            axes = (axis,) if isinstance(axis, (int, np.integer)) else tuple(axis)
+            nd = len(self.shape)
+            for ax in axes:
+                if not -nd <= ax < nd:
+                    raise ValueError(f"axis {ax} is out of range for an Attitude of shape {self.shape}")
+            axis = tuple(int(ax) % nd for ax in axes)
         return self._like(mean(self._q, weights=weights, axis=axis))
 
     def to_frame(self, reference: str | None = None, body: str | None = None) -> Attitude:
@@ -473,6 +585,11 @@ class Attitude:
         reference, body : str, optional
             New reference frame and/or body axes, named by axis letters (``"ENU"``, ``"FLU"``, ...); None
             keeps that side.  The current names must be letter names too.
+
+        Returns
+        -------
+        Attitude
+            The same rotations of the physical body, with the new names (``self`` when nothing changes).
 
         Examples
         --------

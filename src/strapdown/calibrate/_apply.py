@@ -19,6 +19,8 @@ def by_sensor(calibration) -> dict:
     for cal in items:
         if not isinstance(cal, Calibration):
             raise ValueError(f"calibration must hold strapdown.calibrate.Calibration objects, got {type(cal).__name__}")
+        if cal.sensor in out:
+            raise ValueError(f"calibration holds two {cal.sensor} calibrations; give one per sensor")
         out[cal.sensor] = cal
     return out
 

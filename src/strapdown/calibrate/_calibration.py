@@ -294,5 +294,7 @@ def load(path) -> dict[str, Calibration]:
     out = {}
     for i, entry in enumerate(entries):
         cal = Calibration.from_dict(entry, source=f"{path} (calibration {i})")
-        out[cal.sensor] = cal
-    return out
+        if cal.sensor in out:  # the later one silently winning would apply a calibration nobody chose
+            raise ValueError(f"{path} holds two {cal.sensor} calibrations (entries {out[cal.sensor][1]} and {i})")
+        out[cal.sensor] = cal, i
+    return {sensor: cal for sensor, (cal, _) in out.items()}

@@ -15,9 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .units import UNITS
+
 __all__ = ["AlignedTruth", "align_truth", "write_aligned"]
 
-_UNIT_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+_UNIT_SECONDS = UNITS["time"]  # s per unit
 
 
 @dataclass
@@ -126,7 +128,9 @@ def align_truth(estimate, truth, *, truth_frame: str | None = None, truth_body: 
             reexpressed = True
     # the same instant for t = 0: shift the truth when both files store absolute origins of one kind
     shift = 0.0
-    a, b = _origin_seconds(est_meta), _origin_seconds(truth_meta)
+    # the truth's origin from its metadata, else from its own time column (epoch ns of a motion-capture table)
+    a = _origin_seconds(est_meta)
+    b = _origin_seconds(truth_meta) or _origin_seconds(ref.time_origin.metadata() if ref.time_origin else {})
     if a and b and a[0] == b[0]:
         shift = b[1] - a[1]
     rt = ref.t + shift

@@ -139,3 +139,21 @@ def test_an_output_that_is_no_calibration_file_is_refused(recording, tmp_path):
     result = CliRunner().invoke(_build(), ["calibrate", "mag", str(path), "-o", str(other)])
     assert result.exit_code == 1 and "not a strapdown calibration file" in result.output
     assert json.loads(other.read_text()) == {"something": "else"}  # left as it was
+
+
+def test_a_calibration_fitted_in_other_axes_is_refused(recording, tmp_path):
+    """The offset and matrix act on the components of the axes they were fitted in: a FRD calibration applied to
+    readings declared FLU would correct the wrong components, so estimate refuses it and names both axes."""
+    path, _ = recording
+    cal = tmp_path / "cal.json"
+    run(["calibrate", "mag", path, "-o", cal, "--field-strength", "50"])
+    doc = json.loads(cal.read_text())
+    doc["calibrations"][0]["frame"] = "FRD"
+    cal.write_text(json.dumps(doc))
+    result = CliRunner().invoke(
+        _build(), ["estimate", str(path), "--body", "FLU", "-o", str(tmp_path / "x.parquet"), "--calibration", str(cal)]
+    )
+    assert result.exit_code == 1 and "fitted in FRD axes" in result.output and "FLU axes" in result.output
+    assert not (tmp_path / "x.parquet").exists()
+    # the same file with its axes declared as the calibration's goes through
+    run(["estimate", path, "--body", "FRD", "-o", tmp_path / "y.parquet", "--calibration", cal, "-q"])

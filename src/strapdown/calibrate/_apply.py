@@ -25,6 +25,18 @@ def by_sensor(calibration) -> dict:
     return out
 
 
+def check_axes(cal: dict, sensor: str, declared: str) -> None:
+    """Refuse a calibration fitted in other named axes than the readings' (its matrix and offset would be applied
+    to the wrong components); "sensor" (axes not named at the fit) and readings whose axes are only assumed pass."""
+    for c in cal.values():
+        if c.frame != "sensor" and declared != "assumed" and c.frame != sensor:
+            raise ValueError(
+                f"the {c.sensor} calibration was fitted in {c.frame} axes, but these readings are in {sensor} axes "
+                f"({declared}): fit it on readings in {sensor} axes, or give --body {c.frame} if that is what the "
+                "file holds"
+            )
+
+
 def readings(cal: dict, gyro, acc, mag):
     """Rates (rad/s, not increments), specific force and field with each sensor's calibration applied."""
     pairs = (("gyroscope", gyro), ("accelerometer", acc), ("magnetometer", mag))

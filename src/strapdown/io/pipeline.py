@@ -509,6 +509,7 @@ def estimate_file(
         from ..calibrate import _apply, to_true_north  # calibration and true north (strapdown.calibrate)
 
         cal = _apply.by_sensor(calibration)
+        _apply.check_axes(cal, axes.sensor, axes.declared)
         meta = _metadata("estimate", estimator=estimator, mode="9D" if use_mag else "6D")
         meta.update(_apply.heading_metadata(use_mag, declination, cal))
         meta.update(axes.metadata())

@@ -26,8 +26,11 @@ def by_sensor(calibration) -> dict:
 
 
 def check_axes(cal: dict, sensor: str, declared: str) -> None:
-    """Refuse a calibration fitted in other named axes than the readings' (its matrix and offset would be applied
-    to the wrong components); "sensor" (axes not named at the fit) and readings whose axes are only assumed pass."""
+    """Refuse a calibration fitted in other named axes than the readings'.
+
+    Its matrix and offset would act on the wrong components.  A calibration fitted in unnamed axes ("sensor")
+    and readings whose axes are only assumed pass.
+    """
     for c in cal.values():
         if c.frame != "sensor" and declared != "assumed" and c.frame != sensor:
             raise ValueError(

@@ -11,39 +11,38 @@ import math
 import numba as nb
 import numpy as np
 
-from ._kernels_numba import right_step, rotate, tilt_to_z, unit_rotvec
+from ._kernels_numba import lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
 QC = 4  # 3: correction q_c (a tilt quaternion, k part 0): I -> 6D reference frame
-AF = 7  # 6: the accelerometer filter's two states per axis (Butterworth, transposed direct form II), in I
-X = 13  # 6: gyro bias (rad/s) and scale-factor errors (dimensionless), sensor axes
-REG = 19  # 28: the regressor filter's two states for 14 channels (block rate)
-V7 = 47  # 7: the magnetometer regressors, first-order low-pass at tau_mag (block rate)
-ACC = 54  # 24: block accumulators: 14 acc regressors, 7 mag regressors, 3 field components
-TB = 78  # 1: seconds accumulated in the current block
-EXS = 79  # 3: the correction q_c at the start of the block (its change over the block is measured)
-W2 = 82  # 1: |omega|^2 dt summed over the block
-NMAG = 83  # 1: seconds of magnetometer data in the block
-RESTG = 84  # 3: gyro mean for rest detection
-RESTA = 87  # 3: accelerometer mean for rest detection
-REST = 90  # 1: seconds at rest so far
-DELTA = 91  # 1: heading offset delta (rad): output = q_z(delta) (x) q_6D
-MREF = 92  # 2: reference field norm, dip (rad)
-MCUR = 94  # 2: current field norm, dip (fast low-pass)
-MOLD = 96  # 2: the field before the last switch of reference (norm < 0: none)
-DIST = 98  # 1: seconds the field has been disturbed
-UND = 99  # 1: seconds the field has been undisturbed
-STARTED = 100  # 1: 1 once the regressor filter has started
-TACC = 101  # 1: seconds since the last accelerometer sample
-AFO = 102  # 3: the accelerometer filter's last output, in I
-AFDT = 105  # 1: the interval of the filter's last step, s (0: not stepped yet)
-RESTV = 106  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)²
-AINIT = 107  # 1: seconds of accelerometer averaged at the start (< 0: the averaging is over)
-ASUM = 108  # 3: the sum of the accelerometer samples in I during that time
-ACNT = 111  # 1: how many
-MAGN = 112  # 1: undisturbed heading updates so far
-SIZE = 113
+AF = 7  # 3: the accelerometer filter's rate state dy/dt per axis, in I (its output is AFO; lowpass2)
+X = 10  # 6: gyro bias (rad/s) and scale-factor errors (dimensionless), sensor axes
+REG = 16  # 28: the regressor filter's output and rate for 14 channels (block rate; lowpass2)
+V7 = 44  # 7: the magnetometer regressors, first-order low-pass at tau_mag (block rate)
+ACC = 51  # 24: block accumulators: 14 acc regressors, 7 mag regressors, 3 field components
+TB = 75  # 1: seconds accumulated in the current block
+EXS = 76  # 3: the correction q_c at the start of the block (its change over the block is measured)
+W2 = 79  # 1: |omega|^2 dt summed over the block
+NMAG = 80  # 1: seconds of magnetometer data in the block
+RESTG = 81  # 3: gyro mean for rest detection
+RESTA = 84  # 3: accelerometer mean for rest detection
+REST = 87  # 1: seconds at rest so far
+DELTA = 88  # 1: heading offset delta (rad): output = q_z(delta) (x) q_6D
+MREF = 89  # 2: reference field norm, dip (rad)
+MCUR = 91  # 2: current field norm, dip (fast low-pass)
+MOLD = 93  # 2: the field before the last switch of reference (norm < 0: none)
+DIST = 95  # 1: seconds the field has been disturbed
+UND = 96  # 1: seconds the field has been undisturbed
+STARTED = 97  # 1: 1 once the regressor filter has started
+TACC = 98  # 1: seconds since the last accelerometer sample
+AFO = 99  # 3: the accelerometer filter's output, in I
+RESTV = 102  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)²
+AINIT = 103  # 1: seconds of accelerometer averaged at the start (< 0: the averaging is over)
+ASUM = 104  # 3: the sum of the accelerometer samples in I during that time
+ACNT = 107  # 1: how many
+MAGN = 108  # 1: undisturbed heading updates so far
+SIZE = 109
 
 N_REG = 14
 N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
@@ -51,16 +50,6 @@ N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 ma
 FLAG_REST = 1  # the package's flag bits (fusion/_base.py)
 FLAG_ACC_MISSING = 2  # FLAG_ACC_REJECTED: no accelerometer sample
 FLAG_MAG_DISTURBED = 4  # FLAG_MAG_REJECTED
-
-
-@nb.njit(cache=True, inline="always", error_model="numpy")
-def butterworth(dt, tau):
-    """Second-order Butterworth low-pass (bilinear transform, prewarped) with cutoff √2/(2π tau): b0 b1 b2 a1 a2."""
-    k = math.tan(math.sqrt(2.0) / (2.0 * tau) * dt)
-    k2 = k * k
-    nrm = 1.0 / (1.0 + math.sqrt(2.0) * k + k2)
-    b0 = k2 * nrm
-    return b0, 2.0 * b0, b0, 2.0 * (k2 - 1.0) * nrm, (1.0 - math.sqrt(2.0) * k + k2) * nrm
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -160,8 +149,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     rest_gyr2, rest_acc2, rest_time, rest_tau, clip, t_block = p[8], p[9], p[10], p[11], p[12], p[18]
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
-    f1x, f1y, f1z, f2x, f2y, f2z = s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5]
-    mx, my, mz, f_dt = s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT]
+    vx, vy, vz = s[AF], s[AF + 1], s[AF + 2]
+    mx, my, mz = s[AFO], s[AFO + 1], s[AFO + 2]
     a_init, a_cnt = s[AINIT], s[ACNT]
     asx, asy, asz = s[ASUM], s[ASUM + 1], s[ASUM + 2]
     x = s[X : X + 6].copy()
@@ -181,12 +170,12 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     PHt = np.zeros((6, 3))
     K = np.zeros((6, 3))
     tmp = np.zeros(3)
-    work = np.zeros(N_REG + 9)  # regressor outputs; cached block coefficients: T, b0, b1, b2, a1, a2, kmag, kcur, kref
+    work = np.zeros(N_REG + 9)  # regressor outputs; cached block coefficients: T, 4 of lowpass2, kmag, kcur, kref
     work[N_REG] = -1.0
     last_dt = -1.0
     last_t_acc = -1.0
     t_acc = s[TACC]
-    b0 = b1 = b2 = a1 = a2 = rr = 0.0
+    p00 = p01 = p10 = p11 = rr = f_dt = 0.0
     ax = ay = az = 0.0
     sg0 = math.sqrt(P[0, 0])
     sg1 = math.sqrt(P[1, 1])
@@ -213,15 +202,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         t_acc += dt
         if ax_ == ax_:
             if t_acc != last_t_acc:  # the filter steps over the time since the last accelerometer sample
-                b0, b1, b2, a1, a2 = butterworth(t_acc, tau_acc)
+                p00, p01, p10, p11 = lowpass2(t_acc, tau_acc)
                 last_t_acc = t_acc
-            if f_dt <= 0.0 or not (0.5 * f_dt <= t_acc <= 2.0 * f_dt):
-                # The first step, a gap, or a new rate.  The two states of a transposed direct form II only mean
-                # something with the coefficients that made them: kept across a large change of interval they can
-                # swing the output through zero (and the estimate upside down).  Restart them in steady state at
-                # the current output instead; jitter and single dropped samples stay within the factor 2.
-                f1x, f1y, f1z = mx * (1.0 - b0), my * (1.0 - b0), mz * (1.0 - b0)
-                f2x, f2y, f2z = mx * (b2 - a2), my * (b2 - a2), mz * (b2 - a2)
             f_dt = t_acc
             t_acc = 0.0
             ax = ax_
@@ -240,18 +222,19 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 a_init += f_dt
                 if a_init >= tau_acc * (1.0 - 1e-9):  # hand over to the filter, in steady state at the mean
                     a_init = -1.0
-                    f1x, f1y, f1z = mx * (1.0 - b0), my * (1.0 - b0), mz * (1.0 - b0)
-                    f2x, f2y, f2z = mx * (b2 - a2), my * (b2 - a2), mz * (b2 - a2)
+                    vx = vy = vz = 0.0
             else:
-                mx = b0 * ix + f1x
-                f1x = b1 * ix - a1 * mx + f2x
-                f2x = b2 * ix - a2 * mx
-                my = b0 * iy + f1y
-                f1y = b1 * iy - a1 * my + f2y
-                f2y = b2 * iy - a2 * my
-                mz = b0 * iz + f1z
-                f1z = b1 * iz - a1 * mz + f2z
-                f2z = b2 * iz - a2 * mz
+                # exact step of the low-pass over the interval since the last sample (lowpass2): no restart is
+                # needed after a gap or a change of rate, and jitter changes nothing but the interval
+                d = mx - ix
+                mx = ix + p00 * d + p01 * vx
+                vx = p10 * d + p11 * vx
+                d = my - iy
+                my = iy + p00 * d + p01 * vy
+                vy = p10 * d + p11 * vy
+                d = mz - iz
+                mz = iz + p00 * d + p01 * vz
+                vz = p10 * d + p11 * vz
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -335,8 +318,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
-    s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5] = f1x, f1y, f1z, f2x, f2y, f2z
-    s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT] = mx, my, mz, f_dt
+    s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
+    s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz
     s[AINIT], s[ACNT] = a_init, a_cnt
     s[ASUM], s[ASUM + 1], s[ASUM + 2] = asx, asy, asz
     s[X : X + 6] = x
@@ -446,11 +429,11 @@ def _block(
     c = N_REG
     if abs(T - work[c]) > 1e-9 * T:  # blocks have the same length unless the sample intervals change
         work[c] = T
-        work[c + 1], work[c + 2], work[c + 3], work[c + 4], work[c + 5] = butterworth(T, tau_acc)
+        work[c + 1], work[c + 2], work[c + 3], work[c + 4] = lowpass2(T, tau_acc)
         work[c + 6] = 1.0 - math.exp(-T / tau_mag)
         work[c + 7] = 1.0 - math.exp(-T / cur_tau)
         work[c + 8] = 1.0 - math.exp(-T / ref_tau)
-    b0, b1, b2, a1, a2 = work[c + 1], work[c + 2], work[c + 3], work[c + 4], work[c + 5]
+    p00, p01, p10, p11 = work[c + 1], work[c + 2], work[c + 3], work[c + 4]
     kmag, kcur, kref = work[c + 6], work[c + 7], work[c + 8]
     for i in range(3):
         P[i, i] += q_bias * T
@@ -467,12 +450,20 @@ def _block(
         v = accu[i] / T
         j = REG + 2 * i
         if start:  # steady state at the first block's value
-            s[j] = v * (1.0 - b0)
-            s[j + 1] = v * (b2 - a2)
-        y = b0 * v + s[j]
-        s[j] = b1 * v - a1 * y + s[j + 1]
-        s[j + 1] = b2 * v - a2 * y
-        lp[i] = y
+            s[j] = v
+            s[j + 1] = 0.0
+        # the block mean held over the block: exact for the continuous filter (lowpass2)
+        y0 = s[j]
+        r0 = s[j + 1]
+        d = y0 - v
+        y = v + p00 * d + p01 * r0
+        r = p10 * d + p11 * r0
+        s[j] = y
+        s[j + 1] = r
+        # the measurement is the correction's mean rate over the block, so the regressor is the filter output's
+        # mean over the block too, not its end value (half a block later): integrating the filter's ODE
+        # (tau²/2) y'' + tau y' + y = u over the block gives mean(y) = u - (tau Δy + tau²/2 Δy') / T exactly
+        lp[i] = v - (tau_acc * (y - y0) + 0.5 * tau_acc * tau_acc * (r - r0)) / T
     s[STARTED] = 1.0
     w2 = w2_sum / T
     rm = (r_motion + kappa2 * w2) / T

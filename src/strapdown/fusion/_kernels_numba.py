@@ -101,3 +101,26 @@ def tilt_to_vertical(vx, vy, vz):
         return math.pi, 0.0  # straight down: half a turn about x
     angle = math.atan2(s, vz)
     return vy / s * angle, -vx / s * angle
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def lowpass2(h, tau):
+    """Exact step over h seconds of the second-order Butterworth low-pass with cutoff √2/tau rad/s.
+
+    The filter is the ODE y'' + (2/tau) y' + (2/tau²) y = (2/tau²) u, whose poles are (-1 ± i)/tau; with the input
+    held over the step (zero-order hold), the deviation d = y - u and the rate v = y' advance by the transition
+    matrix exp(A h) = [[c + s, tau s], [-2 s/tau, c - s]], c + i s = exp((-1 + i) h/tau).  The states are the
+    output and its rate, so they stay meaningful for any interval: a gap or a change of rate needs no restart
+    (a direct-form filter's states belong to the coefficients that made them, and swing when those change).
+    For h/tau < 0.05 the exponential is its Taylor series to the sixth power (error < 2e-12): jittered intervals
+    then cost no transcendental functions.  Returns the four entries of exp(A h), row by row.
+    """
+    th = h / tau
+    if th < 0.05:
+        c = 1.0 - th + th * th * th * (1.0 / 3.0 - th * (1.0 / 6.0 - th * (1.0 / 30.0)))
+        s = th * (1.0 - th + th * th * (1.0 / 3.0 - th * th * (1.0 / 30.0 - th * (1.0 / 90.0))))
+    else:
+        e = math.exp(-th)
+        c = e * math.cos(th)
+        s = e * math.sin(th)
+    return c + s, tau * s, -2.0 * s / tau, c - s

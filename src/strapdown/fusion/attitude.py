@@ -183,7 +183,7 @@ class AttitudeParams:
 _LAYOUT = (
     ("q_gyro", "QG", 4),
     ("q_correction", "QC", 3),
-    ("acc_filter", "AF", 6),
+    ("acc_filter_rate", "AF", 3),
     ("bias_scale", "X", 6),
     ("regressor_filter", "REG", 28),
     ("mag_regressors", "V7", 7),
@@ -204,7 +204,6 @@ _LAYOUT = (
     ("started", "STARTED", 1),
     ("acc_gap_seconds", "TACC", 1),
     ("acc_filter_output", "AFO", 3),
-    ("acc_filter_interval", "AFDT", 1),
     ("rest_gyro_variance", "RESTV", 1),
     ("acc_start_seconds", "AINIT", 1),
     ("acc_start_sum", "ASUM", 3),
@@ -313,8 +312,7 @@ class AttitudeEstimator(Estimator):
         s[k.QC] = 1.0
         s[k.EXS] = 1.0
         ka = _first_present(acc, "acc")
-        # the filter starts in steady state at the first sample once its interval is known (AFDT = 0: the kernel
-        # restarts it at its first step), so that the first chunk's length does not matter; a first sample
+        # the filter starts at the first sample (in the start's averaging, then at rest: rate 0); a first sample
         # later than the first row is turned back to the sensor axes of the first row, which q is for
         s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyr, dts, ka, acc[ka]))
         s[k.RESTA : k.RESTA + 3] = acc[ka]

@@ -11,7 +11,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ._kernels_numba import lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_step, lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -42,7 +42,9 @@ AINIT = 103  # 1: seconds of accelerometer averaged at the start (< 0: the avera
 ASUM = 104  # 3: the sum of the accelerometer samples in I during that time
 ACNT = 107  # 1: how many
 MAGN = 108  # 1: undisturbed heading updates so far
-SIZE = 109
+GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
+NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
+SIZE = 113
 
 N_REG = 14
 N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
@@ -154,6 +156,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     a_init, a_cnt = s[AINIT], s[ACNT]
     asx, asy, asz = s[ASUM], s[ASUM + 1], s[ASUM + 2]
     x = s[X : X + 6].copy()
+    gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
@@ -192,10 +195,19 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         wx = gyr[k, 0]
         wy = gyr[k, 1]
         wz = gyr[k, 2]
-        # 1. gyro frame with the bias and scale factor of the last block update
-        ux = wx - bx - sx * wx
-        uy = wy - by - sy * wy
-        uz = wz - bz - sz * wz
+        # 1. gyro frame with the bias and scale factor of the last block update; over an interval that holds
+        # missing samples, the rate interpolated across the gap (gap_step)
+        ox, oy, oz = wx, wy, wz
+        if dt > 0.0:
+            wg, nominal = gap_step(dt, nominal)
+            if wg > 0.0:
+                ox += wg * (gpx - wx)
+                oy += wg * (gpy - wy)
+                oz += wg * (gpz - wz)
+            gpx, gpy, gpz = wx, wy, wz
+        ux = ox - bx - sx * ox
+        uy = oy - by - sy * oy
+        uz = oz - bz - sz * oz
         gw, gx, gy, gz = right_step(gw, gx, gy, gz, ux * dt, uy * dt, uz * dt)
         # 2. accelerometer in I, Butterworth low-pass; a missing sample (NaN row) holds the filter
         ax_ = acc[k, 0]
@@ -333,6 +345,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[REST] = rest
     s[RESTV] = rv
     s[TACC] = t_acc
+    s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
 
 
 @nb.njit(cache=True, error_model="numpy")

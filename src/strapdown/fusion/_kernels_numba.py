@@ -124,3 +124,30 @@ def lowpass2(h, tau):
         c = e * math.cos(th)
         s = e * math.sin(th)
     return c + s, tau * s, -2.0 * s / tau, c - s
+
+
+NOMINAL_TAU = 1.0  # s: how fast the nominal sample interval follows a lasting lower rate (gap_step)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def gap_step(h, nominal):
+    """The weight of the previous gyro sample over an interval of h s, and the nominal interval after it.
+
+    A gyro sample is the rate over (or at the end of) its own sample interval, ``nominal`` (the shortest recent
+    interval).  An interval h longer than that holds missing samples: the part h - nominal between the previous
+    sample and this one is not covered by either.  Interpolating the rate linearly between the two samples (at
+    the centres of their intervals) gives it the mean (ω_prev + ω)/2, so the mean rate over the whole interval is
+    ω + w (ω_prev - ω) with w = (h - nominal) / (2h): exact for a rate that changes linearly, and 0 for regular
+    samples.  Applying ω alone over a gap errs by about the gap times the change of rate.  The nominal interval
+    drops at once to a shorter interval and rises towards a longer one in NOMINAL_TAU, so a lasting lower rate is
+    soon regular again.
+    """
+    if nominal <= 0.0:  # the first interval
+        return 0.0, h
+    w = 0.0
+    if h > nominal:
+        w = (h - nominal) / (2.0 * h)
+        nominal += (h - nominal) * min(1.0, h / NOMINAL_TAU)
+    else:
+        nominal = h
+    return w, nominal

@@ -472,10 +472,8 @@ def test_dropped_rows_and_missing_samples_cost_little(moving_consumer):
     for use_mag, metric in ((False, "inclination"), (True, "total")):
         m = d.mag if use_mag else None
 
-        def err(q, rows):
-            e = attitude_errors(q, truth[rows])
-            e = e[metric] if metric != "total" else np.hypot(e["inclination"], e["heading"])
-            return deg(rmse(e[settled[rows]]))
+        def err(q, rows, metric=metric):
+            return deg(rmse(attitude_errors(q, truth[rows])[metric][settled[rows]]))
 
         every = np.ones(len(t), bool)
         regular = err(attitude(d.gyro, d.acc, m, t=t).q, every)

@@ -1,6 +1,7 @@
 """The AttitudeEstimator against VQF: accuracy on BROAD, robustness, simulated checks, throughput (issue 7).
 
     python benchmarks/bench_attitude.py [--broad DIR] [--n 1000000] [--repeat 5] [--skip-surface] [--json F]
+                                        [--only accuracy,surface,irregular,simulated,throughput] [--trials 01,06]
 
 Accuracy: the 22 BROAD trials (CC BY 4.0; Laidig et al. 2021), official metric, one parameter set for all
 trials (the defaults), online 6D and 9D and offline 9D, with vqf's VQF and offlineVQF (defaults) run in the same
@@ -8,6 +9,10 @@ process; per-group means (trials.json).  6D errors are taken after removing each
 
 Robustness: mean 9D total and 6D inclination RMSE over a grid of the two main time constants, tau_acc and tau_mag,
 and a two-fold held-out check: the time constants chosen on half of the trials, scored on the other half.
+
+Irregular sampling (issue 13): each trial as recorded, with 10 % of its rows dropped at random (the true times of
+the rest passed as ``t``), and with 10 % of its accelerometer and 10 % of its magnetometer rows NaN ("no sample");
+the mean errors of the AttitudeEstimator online and offline and of the TiltEstimator, and their change.
 
 Simulated checks (strapdown.simulate, ideal sensors but for what is named): a 0.5°/s gyro bias on every axis on a
 platform rocking and turning in place and on a body turning every way; a magnet near the sensor for 10 s.
@@ -223,6 +228,69 @@ def simulated() -> dict:
     return out
 
 
+def irregular_inputs(trial, seed: int, fraction: float = 0.1):
+    """Three versions of a trial: as recorded, with rows dropped at random (their true times kept) and with NaN
+    accelerometer and magnetometer rows (independently); each (label, gyr, acc, mag, timing, rows kept)."""
+    rng = np.random.default_rng(seed)
+    n = len(trial)
+    keep = rng.random(n) >= fraction
+    keep[0] = True
+    acc, mag = trial.acc.copy(), trial.mag.copy()
+    for arr in (acc, mag):
+        gone = rng.random(n) < fraction
+        gone[0] = False
+        arr[gone] = np.nan
+    every = np.ones(n, bool)
+    times = np.arange(n) * trial.dt
+    return [
+        ("regular", trial.gyr, trial.acc, trial.mag, {"dt": trial.dt}, every),
+        (f"{fraction:.0%} rows dropped", trial.gyr[keep], trial.acc[keep], trial.mag[keep], {"t": times[keep]}, keep),
+        (f"{fraction:.0%} acc/mag NaN", trial.gyr, acc, mag, {"dt": trial.dt}, every),
+    ]
+
+
+def irregular(trials) -> dict:
+    """BROAD with irregular sampling: each variant's mean RMSE against the regular record's (issue 13)."""
+    from strapdown.fusion import tilt
+    from strapdown.metrics import rmse_errors
+
+    cols = ("ours 9D total", "ours 6D incl.", "offline 9D total", "offline incl.", "Tilt 6D incl.")
+    table: dict = {}
+    for trial in trials:
+        for label, g, a, m, timing, rows in irregular_inputs(trial, seed=int(trial.name[:2])):
+            truth, moving = trial.quat[rows], trial.movement[rows]
+            nine = rmse_errors(attitude(g, a, m, **timing).q, truth, moving)["total"]
+            six = rmse_errors(attitude(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
+            off = rmse_errors(attitude_offline(g, a, m, **timing).q, truth, moving)
+            # the TiltEstimator takes no NaN rows
+            til = np.nan
+            if np.isfinite(a).all():
+                til = rmse_errors(tilt(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
+            table.setdefault(label, []).append([nine, six, off["total"], off["inclination"], til])
+    print(f"\nIrregular sampling on BROAD ({len(trials)} trials), mean RMSE (deg); in brackets: change from regular")
+    print(f"{'':22}" + "".join(f"{c:>22}" for c in cols))
+    regular = np.mean(table["regular"], axis=0)
+    out = {}
+    for label, rows in table.items():
+        means = np.mean(rows, axis=0)
+        cells = "".join(
+            f"{v:14.3f} ({(v / r - 1) * 100:+4.1f} %)" if np.isfinite(v) else f"{'-':>22}"
+            for v, r in zip(means, regular, strict=True)
+        )
+        print(f"{label:22}{cells}")
+        out[label] = dict(zip(cols, map(float, means), strict=True))
+    worst = max(
+        (v / r - 1)
+        for label, rows in table.items()
+        for v, r in zip(np.mean(rows, axis=0)[:4], regular[:4], strict=True)
+    )
+    print(
+        f"  issue 13 goal: each AttitudeEstimator figure within 10 % of the regular one: worst {worst:+.1%}, "
+        f"{'met' if worst <= 0.10 else 'MISSED'}"
+    )
+    return out
+
+
 def throughput(trials, n: int, repeat: int) -> dict:
     sys.path.insert(0, str(Path(__file__).parent))
     from bench_estimators import inputs
@@ -265,6 +333,11 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=1_000_000)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--skip-surface", action="store_true")
+    ap.add_argument(
+        "--only",
+        help="comma-separated sections to run: accuracy, surface, irregular, simulated, throughput (default: all)",
+    )
+    ap.add_argument("--trials", help="comma-separated trial numbers to use (default: all 22), e.g. 01,06,21")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     print(
@@ -274,17 +347,30 @@ def main(argv=None):
     t0 = time.perf_counter()
     results = {}
     trials = []
+    sections = (
+        set(args.only.split(",")) if args.only else {"accuracy", "surface", "irregular", "simulated", "throughput"}
+    )
+    if args.skip_surface:
+        sections.discard("surface")
     if (args.broad / "data_mat").is_dir():
         from strapdown.broad import load_trials
 
         trials = load_trials(args.broad / "data_mat")
-        results["accuracy"] = accuracy(trials)
-        if not args.skip_surface:
+        if args.trials:
+            wanted = args.trials.split(",")
+            trials = [t for t in trials if t.name.split("_")[0] in wanted]
+        if "accuracy" in sections:
+            results["accuracy"] = accuracy(trials)
+        if "surface" in sections:
             results["surface"] = surface(trials)
+        if "irregular" in sections:
+            results["irregular"] = irregular(trials)
     else:
         print(f"BROAD not found at {args.broad}: accuracy skipped")
-    results["simulated"] = simulated()
-    results["throughput"] = throughput(trials, args.n, args.repeat)
+    if "simulated" in sections:
+        results["simulated"] = simulated()
+    if "throughput" in sections:
+        results["throughput"] = throughput(trials, args.n, args.repeat)
     print(f"\n({time.perf_counter() - t0:.0f} s)")
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2, default=str))

@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 from strapdown import change_frame
 from strapdown.fusion import (
     FLAG_ACC_REJECTED,
+    FLAG_BIAS_AT_LIMIT,
     FLAG_MAG_REJECTED,
     FLAG_REST,
     AttitudeEstimator,
@@ -537,3 +538,34 @@ def test_broad_with_dropped_rows_and_missing_samples():
             sums[i, 1] += rmse_errors(attitude(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
             sums[i, 2] += rmse_errors(attitude_offline(g, a, m, **timing).q, truth, moving)["total"]
     assert (sums[1:] <= 1.1 * sums[0]).all(), sums / 22  # measured within -2 % .. +2 % (offline inclination +7 %)
+
+
+# --- the bias prior (issue 13) -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("axis", [0, 2])
+def test_a_large_bias_is_learnt_not_clipped_and_flagged(axis):
+    # 4.5°/s on one axis (a real EuRoC-style recording), twice the prior's spread: learnt within 5 % on a body
+    # turning every way (horizontal axes from gravity, the vertical one from the field), and flagged once the
+    # estimate passes 2°/s; the old clip held it at 2°/s, so the attitude drifted at 2.5°/s between corrections
+    bias = np.zeros(3)
+    bias[axis] = np.radians(4.5)
+    d = sim(RandomMotion(duration=120.0, seed=3, acceleration_scale=0.0), bias=bias)
+    est = attitude(d.gyro, d.acc, d.mag, dt=0.01)
+    late = slice(9000, None)  # the last 30 s
+    err = np.abs(est.bias[late, axis] - bias[axis])
+    assert err.max() < 0.05 * bias[axis]
+    flagged = (est.flags & FLAG_BIAS_AT_LIMIT) > 0
+    past = np.abs(est.bias[:, axis]) > np.radians(2.0)
+    np.testing.assert_array_equal(flagged, past)  # the flag says where the estimate is past the prior's spread ...
+    assert flagged[late].all()
+    small = attitude(d.gyro - bias + np.radians(1.0), d.acc, d.mag, dt=0.01)  # ... and stays off for 1°/s
+    assert not (small.flags & FLAG_BIAS_AT_LIMIT).any()
+
+
+def test_a_large_bias_at_rest_is_learnt():
+    # at rest the mean rate is a bias if the prior finds it plausible (within three spreads: 6°/s)
+    bias = np.radians([0.0, 4.5, 0.0])
+    est = attitude(np.tile(bias, (1000, 1)), np.tile([0.0, 0.0, 9.81], (1000, 1)), dt=0.01)
+    np.testing.assert_allclose(est.bias[-1], bias, atol=0.01 * bias[1])
+    assert (est.flags[-1] & FLAG_REST) and (est.flags[-1] & FLAG_BIAS_AT_LIMIT)

@@ -11,6 +11,10 @@ import math
 import numba as nb
 import numpy as np
 
+# the flag bits are defined once, in _base.py
+from ._base import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
+from ._base import FLAG_BIAS_AT_LIMIT, FLAG_REST
+from ._base import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
 from ._kernels_numba import gap_step, lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
 
 # --- layout of s ------------------------------------------------------------------------------------------------
@@ -46,12 +50,9 @@ GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
 SIZE = 113
 
+REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
 N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
-
-FLAG_REST = 1  # the package's flag bits (fusion/_base.py)
-FLAG_ACC_MISSING = 2  # FLAG_ACC_REJECTED: no accelerometer sample
-FLAG_MAG_DISTURBED = 4  # FLAG_MAG_REJECTED
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -140,15 +141,17 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
 
     p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
     rest noise density², mag noise density², rest gyro threshold², rest acc threshold², rest time, rest filter
-    tau, bias clip, field norm threshold (relative), dip threshold (rad), reference tau, current tau, new-field
-    time, block length (s).
+    tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
+    tau, new-field time, block length (s).
 
     Speed: the per-sample recursion (gyro frame, filter, correction, rest detection) runs first over a block
     and writes the 6D attitudes to ``out``; a second, simple loop then forms the block's regressor sums from
     them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
     """
     tau_acc = p[0]
-    rest_gyr2, rest_acc2, rest_time, rest_tau, clip, t_block = p[8], p[9], p[10], p[11], p[12], p[18]
+    rest_gyr2, rest_acc2, rest_time, rest_tau, prior, t_block = p[8], p[9], p[10], p[11], p[12], p[18]
+    rest_mean_max = REST_MEAN_FACTOR * prior
+    at_limit = FLAG_BIAS_AT_LIMIT if max(abs(s[X]), abs(s[X + 1]), abs(s[X + 2])) > prior else 0
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
     vx, vy, vz = s[AF], s[AF + 1], s[AF + 2]
@@ -266,8 +269,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
         rv += rr * (dg - rv)
         # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
-        # must also be small enough to be a bias (VQF's test against its bias clip)
-        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < clip:
+        # must also be plausible as a bias under the prior (VQF tests it against its bias clip)
+        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < rest_mean_max:
             rest += dt
         else:
             rest = 0.0
@@ -279,7 +282,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         sigma_out[k, 0] = sg0
         sigma_out[k, 1] = sg1
         sigma_out[k, 2] = sg2
-        flags[k] = flag
+        flags[k] = flag | at_limit
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
@@ -322,6 +325,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             sg1 = math.sqrt(P[1, 1])
             sg2 = math.sqrt(P[2, 2])
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+            at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
@@ -435,7 +439,7 @@ def _block(
 ):
     """The block-rate part: regressor filter, Kalman updates of bias and scale, magnetometer heading."""
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
-    r_motion, kappa2, r_rest, r_mag, clip = p[4], p[5], p[6], p[7], p[12]
+    r_motion, kappa2, r_rest, r_mag, prior = p[4], p[5], p[6], p[7], p[12]
     norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
     w2_sum = accu[24]
     t_mag = accu[25]
@@ -448,8 +452,17 @@ def _block(
         work[c + 8] = 1.0 - math.exp(-T / ref_tau)
     p00, p01, p10, p11 = work[c + 1], work[c + 2], work[c + 3], work[c + 4]
     kmag, kcur, kref = work[c + 6], work[c + 7], work[c + 8]
+    # The bias is a first-order Gauss-Markov process: stationary spread `prior` (the prior, instead of a clip),
+    # and a correlation time that makes it wander as fast as the forgetting rate says while far inside the prior
+    # (dP/dt = 2 prior² / t_c = q_bias).  It pulls the estimate towards zero only at the rate 1/t_c (an hour for
+    # the defaults), so a large bias the data show is learnt, not clipped; one beyond `prior` is flagged.
+    phi = math.exp(-T * q_bias / (2.0 * prior * prior))
     for i in range(3):
-        P[i, i] += q_bias * T
+        x[i] *= phi
+        for j in range(6):
+            P[i, j] *= phi
+            P[j, i] *= phi
+        P[i, i] += prior * prior * (1.0 - phi * phi)
         P[3 + i, 3 + i] += q_scale * T
     # the regressors through the same low-pass as the accelerometer (box mean of the block, then Butterworth at
     # the block rate): the correction rate responds to a bias error through that filter (math: attitude.py)
@@ -501,8 +514,6 @@ def _block(
         z[1] = rgy
         z[2] = rgz
         kalman(x, P, H, z, R, 3, PHt, K, tmp)
-    for i in range(3):
-        x[i] = min(max(x[i], -clip), clip)
     if not use_mag or t_mag <= 0.0:
         return
     # magnetometer: the field in the 6D frame, its norm and dip against a learned reference, the heading offset
@@ -558,8 +569,6 @@ def _block(
         z[0] = s[V7 + 6] - step / T
         R[0] = (r_mag + kappa2 * w2) / T
         kalman(x, P, H, z, R, 1, PHt, K, tmp)
-        for i in range(3):
-            x[i] = min(max(x[i], -clip), clip)
 
 
 @nb.njit(cache=True, error_model="numpy")

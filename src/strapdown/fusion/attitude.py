@@ -21,8 +21,15 @@ How it works
    measurement is trusted less the faster the body turns (``bias_noise_rate_factor``), since unmodelled gyro
    errors grow with the rate.
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
-   mean rate is small enough to be a bias (a turntable is steady but not at rest), the mean gyro is a direct
-   measurement of the bias on all three axes, as noisy as the gyro's scatter about that mean says.
+   mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
+   mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
+   mean says.
+   The bias prior.  Gyro biases of a sensor class spread about zero (``bias_limit``), and a bias wanders.  A
+   first-order Gauss-Markov process models both: stationary spread ``bias_limit``, correlation time
+   t_c = 2 bias_limit² / q (q = bias_sigma_init² / bias_forgetting_time, the wander rate), so that far inside the
+   prior the bias wanders exactly as a random walk of rate q, and the prior pulls towards zero only at the rate
+   1/t_c (about an hour for the defaults).  A clip would hold a real 4.5°/s bias at the limit and leave the
+   attitude drifting; the prior learns it (tests/fusion/test_attitude.py) and flags it, FLAG_BIAS_AT_LIMIT.
 5. Heading (9D).  The magnetic field, taken into the 6D frame, gives a heading offset δ that a first-order
    filter (``tau_mag``) follows about the vertical only, so the magnetometer never tilts the estimate:
    ``q = q_z(δ) ⊗ q_6D``; until it has averaged that long it is the mean of the updates so far, so the first
@@ -119,7 +126,11 @@ class AttitudeParams:
     rest_tau : float
         Time constant of the rest detector's means, s.  Default 0.5.
     bias_limit : float
-        Largest bias believed on any axis, rad/s (default 2°/s).
+        Spread (standard deviation) of the bias prior, rad/s (default 2°/s).  The bias is modelled as a
+        Gauss-Markov process with this stationary spread that wanders as ``bias_forgetting_time`` says, so a
+        larger bias the data show is learnt, not clipped; while an estimate lies beyond it on some axis the
+        samples carry ``FLAG_BIAS_AT_LIMIT`` (check the sensor).  A steady mean rate up to three times it is
+        taken as a bias at rest; a faster one is a steady turn.
     mag_norm_threshold : float
         Relative departure of the field norm from its reference that counts as disturbed.  Default 0.1.
     mag_dip_threshold : float
@@ -255,8 +266,9 @@ class AttitudeEstimator(Estimator):
     by half a step, which matters only where half a step's rotation is large (10° at 2000°/s and 100 Hz).  The
     :class:`~strapdown.fusion.Estimate` carries ``q``, ``bias`` (rad/s), ``flags`` (``FLAG_REST``,
     ``FLAG_ACC_REJECTED`` for a missing accelerometer sample, ``FLAG_MAG_REJECTED`` while the field is
-    disturbed) and ``extra["bias_sigma"]``, the bias's standard deviation per axis (rad/s).  ``.state`` reads and
-    restores everything; ``.scale`` and ``.bias_sigma`` give the current estimates.
+    disturbed, ``FLAG_BIAS_AT_LIMIT`` while the bias lies beyond its prior's spread) and ``extra["bias_sigma"]``,
+    the bias's standard deviation per axis (rad/s).  ``.state`` reads and restores everything; ``.scale`` and
+    ``.bias_sigma`` give the current estimates.
 
     Examples
     --------

@@ -48,11 +48,15 @@ ACNT = 107  # 1: how many
 MAGN = 108  # 1: undisturbed heading updates so far
 GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
-SIZE = 113
+ALIN = 113  # 1: the horizontal rate² of the low-passed linear acceleration, times dt, summed over the block
+RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I
+RLV = 117  # 3: its rate
+SIZE = 120
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
-N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
+N_SUMS = 27  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag,
+# linear acceleration²
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -163,6 +167,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
+    sums[26] = s[ALIN]
+    qx_, qy_, qz_, qvx, qvy, qvz = s[RLP], s[RLP + 1], s[RLP + 2], s[RLV], s[RLV + 1], s[RLV + 2]
     sums[25] = s[NMAG]
     tb = s[TB]
     sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
@@ -250,6 +256,20 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 d = mz - iz
                 mz = iz + p00 * d + p01 * vz
                 vz = p10 * d + p11 * vz
+            # the linear acceleration the filter is averaging out (the sample's departure from the filtered
+            # vector), whose residual after the low-pass moves the correction as a bias error would
+            if a_init < 0.0:
+                d = qx_ - (ix - mx)
+                qx_ = ix - mx + p00 * d + p01 * qvx
+                qvx = p10 * d + p11 * qvx
+                d = qy_ - (iy - my)
+                qy_ = iy - my + p00 * d + p01 * qvy
+                qvy = p10 * d + p11 * qvy
+                d = qz_ - (iz - mz)
+                qz_ = iz - mz + p00 * d + p01 * qvz
+                qvz = p10 * d + p11 * qvz
+                vm = (qvx * mx + qvy * my + qvz * mz) ** 2 / (mx * mx + my * my + mz * mz)
+                sums[26] += (qvx * qvx + qvy * qvy + qvz * qvz - vm) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -297,6 +317,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             # exponential mean (factor rr/(2-rr)), times the number of block updates that share one mean's
             # memory (2 rest_tau / T), which the filter would otherwise count as independent.
             rest_var = rv / 3.0 * rr / (2.0 - rr) * max(1.0, 2.0 * rest_tau / tb)
+            s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz  # the filtered vector now (g for the noise of step 3)
             _block(
                 s,
                 P,
@@ -341,6 +362,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[X : X + 6] = x
     s[ACC : ACC + 24] = sums[:24]
     s[W2] = sums[24]
+    s[ALIN] = sums[26]
+    s[RLP], s[RLP + 1], s[RLP + 2], s[RLV], s[RLV + 1], s[RLV + 2] = qx_, qy_, qz_, qvx, qvy, qvz
     s[NMAG] = sums[25]
     s[TB] = tb
     s[EXS], s[EXS + 1], s[EXS + 2] = sw, s1, s2
@@ -441,6 +464,7 @@ def _block(
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
     r_motion, kappa2, r_rest, r_mag, prior = p[4], p[5], p[6], p[7], p[12]
     norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
+    acc_factor = p[19]
     w2_sum = accu[24]
     t_mag = accu[25]
     c = N_REG
@@ -492,7 +516,11 @@ def _block(
         lp[i] = v - (tau_acc * (y - y0) + 0.5 * tau_acc * tau_acc * (r - r0)) / T
     s[STARTED] = 1.0
     w2 = w2_sum / T
-    rm = (r_motion + kappa2 * w2) / T
+    # Linear acceleration a moves the filtered vector by LP[a]/g, whose horizontal rate the regression would
+    # read as a bias error; correlated over about tau_acc, it is a noise of density² mean(|d LP[a]/dt|²) tau/g²
+    g2 = s[AFO] ** 2 + s[AFO + 1] ** 2 + s[AFO + 2] ** 2
+    r_acc = acc_factor * accu[26] / T * tau_acc / g2 if g2 > 0.0 else 0.0
+    rm = (r_motion + kappa2 * w2 + r_acc) / T
     for j in range(3):
         H[0, j] = lp[j]
         H[1, j] = lp[3 + j]

@@ -19,7 +19,15 @@ How it works
    six-state Kalman filter also estimates the scale factors, because in fast motion scale errors drift the
    frame far more than bias does: on BROAD this alone lowers the 6D inclination error by a tenth.  A
    measurement is trusted less the faster the body turns (``bias_noise_rate_factor``), since unmodelled gyro
-   errors grow with the rate.
+   errors grow with the rate, and the more the body accelerates (``bias_noise_acc_factor``): the low-pass
+   leaves LP[a] of a linear acceleration a in the filtered vector, and its horizontal rate over g moves the
+   correction exactly as a bias error would.  The accelerometer's departure from the filtered vector, a - LP[a],
+   passed through the same low-pass, estimates LP[a] (for the frequencies above the cutoff that move it; slower
+   ones are indistinguishable from gravity anyway), and its rate, correlated over about tau_acc, adds
+   mean(|rate|²) tau_acc / g² (times the factor²) to the measurement's noise density².  In simulation, a body
+   accelerating at 2 m/s² learns a wrong bias without it (inclination 2.5° instead of 2.2°, 1.2° with the
+   bias held at its true value: tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
+   on BROAD (benchmarks/bench_attitude.py), where larger values cost the bias learning more than they save.
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
    mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
    mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
@@ -107,6 +115,10 @@ class AttitudeParams:
         tells the bias to about that much).
     bias_noise_rate_factor : float
         Growth of that noise with the angular rate, √s (noise² += factor² |ω|²).  Default 6e-4.
+    bias_noise_acc_factor : float
+        Growth of the in-motion noise with the linear acceleration a (dimensionless): noise² += factor²
+        mean(|d LP[a]/dt|²_horizontal) tau_acc / g², the rate at which the low-passed acceleration moves the
+        correction (module notes, step 3).  Default 0.1 (leave-one-group-out on BROAD); 0 turns it off.
     bias_noise_rest : float
         Least noise density of the at-rest bias measurement, rad/s·√s (default 0.0018°/s·√s).  Above it the
         noise comes from the gyro's own scatter at rest, so that ``bias_sigma`` stays honest for noisy gyros.
@@ -155,6 +167,7 @@ class AttitudeParams:
     bias_noise_motion: float = 0.18 * _DEG
     bias_noise_rate_factor: float = 6e-4
     bias_noise_rest: float = 0.0018 * _DEG
+    bias_noise_acc_factor: float = 0.1
     scale_sigma_init: float = 0.002
     scale_noise: float = 1e-5
     bias_noise_mag: float = 1.8 * _DEG
@@ -172,7 +185,14 @@ class AttitudeParams:
     offline_time_factor: float = 1.5
 
     def __post_init__(self):
-        zero_ok = {"bias_noise_rate_factor", "scale_sigma_init", "scale_noise", "bias_noise_mag", "rest_time"}
+        zero_ok = {
+            "bias_noise_acc_factor",
+            "bias_noise_rate_factor",
+            "scale_sigma_init",
+            "scale_noise",
+            "bias_noise_mag",
+            "rest_time",
+        }
         for f in fields(self):
             v = getattr(self, f.name)
             if not isinstance(v, Real) or isinstance(v, (bool, np.bool_)) or not np.isfinite(v):
@@ -205,6 +225,7 @@ class AttitudeParams:
                 self.mag_current_tau,
                 self.mag_new_time,
                 1.0 / self.update_rate,
+                self.bias_noise_acc_factor**2,
             ]
         )
 
@@ -241,6 +262,9 @@ _LAYOUT = (
     ("mag_updates", "MAGN", 1),
     ("gyro_previous", "GPREV", 3),
     ("nominal_interval", "NOMDT", 1),
+    ("linear_acc_sum", "ALIN", 1),
+    ("linear_acc_filter", "RLP", 3),
+    ("linear_acc_filter_rate", "RLV", 3),
 )
 
 

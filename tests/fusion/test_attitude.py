@@ -584,3 +584,40 @@ def test_linear_acceleration_makes_the_motion_bias_measurement_noisier():
 
     aware, blind = incl(None), incl({"bias_noise_acc_factor": 0.0})
     assert aware < 0.95 * blind  # measured 0.88
+
+
+# --- the magnetometer start and heading acquisition (issue 13) ---------------------------------------------------
+
+
+def _heading_after(seconds, disturbances=(), seeds=range(6)):
+    """The largest heading error (deg) after `seconds` of bodies moving from the first sample on (about 1 m/s²
+    of linear acceleration: more tilts the 6D frame, and a tilt error ε shows as ε tan(dip) of heading)."""
+    worst = []
+    for seed in seeds:
+        d = sample(
+            RandomMotion(duration=30.0, seed=seed, acceleration_scale=1.0),
+            100.0,
+            reference="ENU",
+            body="FLU",
+            magnetic_field=FIELD,
+            disturbances=disturbances,
+        )
+        heading = deg(np.abs(attitude_errors(attitude(d.gyro, d.acc, d.mag, dt=0.01).q, d.q_true[1:])["heading"]))
+        worst.append(heading[d.t[1:] >= seconds].max())
+    return np.array(worst)
+
+
+def test_heading_is_acquired_within_ten_seconds_of_a_start_in_motion():
+    # the heading mean restarts when the start's plain accelerometer mean hands over to the filter (its tilt,
+    # and so the field's heading in it, is poorer before); VQF measured 1.75° mean, 4.2° worst on these
+    worst = _heading_after(10.0)
+    assert worst.mean() < 2.0 and worst.max() < 3.0  # measured 1.35° mean, 2.3° worst
+
+
+def test_a_transient_first_field_is_not_taken_as_the_reference():
+    # a phone's first second of magnetometer readings 3x too strong (a 100 µT field carried along, in body axes):
+    # the first field is a candidate until it has stayed consistent for mag_start_time (2 s); the field after it
+    # replaces it and sets the heading afresh.  Trusting the first field held the heading 40-100° off for the 20 s
+    # a new environment takes to be accepted
+    magnet = MagneticDisturbance(-1.0, 1.0, (100.0, 0.0, 0.0), frame="body", ramp=0.0)
+    assert _heading_after(5.0, [magnet]).max() < 5.0

@@ -48,10 +48,11 @@ ACNT = 107  # 1: how many
 MAGN = 108  # 1: undisturbed heading updates so far
 GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
+MCONF = 120  # 1: seconds the first field has been consistent (< 0: it is the reference)
 ALIN = 113  # 1: the horizontal rate² of the low-passed linear acceleration, times dt, summed over the block
 RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I
 RLV = 117  # 3: its rate
-SIZE = 120
+SIZE = 121
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
@@ -464,7 +465,7 @@ def _block(
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
     r_motion, kappa2, r_rest, r_mag, prior = p[4], p[5], p[6], p[7], p[12]
     norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
-    acc_factor = p[19]
+    acc_factor, start_time = p[19], p[20]
     w2_sum = accu[24]
     t_mag = accu[25]
     c = N_REG
@@ -550,7 +551,7 @@ def _block(
     hz = accu[23] / t_mag
     nrm = math.sqrt(hx * hx + hy * hy + hz * hz)
     dip = math.atan2(-hz, math.sqrt(hx * hx + hy * hy))
-    if s[MREF] <= 0.0:  # first field: it is the reference
+    if s[MREF] <= 0.0:  # first field: it is the reference (a candidate until it has stayed consistent)
         s[MREF], s[MREF + 1], s[MCUR], s[MCUR + 1] = nrm, dip, nrm, dip
         for i in range(7):
             s[V7 + i] = accu[14 + i] / t_mag
@@ -558,6 +559,20 @@ def _block(
     s[MCUR + 1] += kcur * (dip - s[MCUR + 1])
     cn, cdp = s[MCUR], s[MCUR + 1]
     disturbed = abs(cn - s[MREF]) > norm_th * s[MREF] or abs(cdp - s[MREF + 1]) > dip_th
+    if s[MCONF] >= 0.0:
+        # The start: the first field is only a candidate until it has stayed consistent for mag_start_time (a
+        # phone's magnetometer may read a transient field for its first second).  A different field replaces it
+        # and restarts the heading mean, so that its first update sets the heading at once.
+        if disturbed:
+            s[MREF], s[MREF + 1] = cn, cdp
+            s[MCONF] = 0.0
+            s[MAGN] = 0.0
+            s[UND] = 0.0
+            disturbed = False
+        else:
+            s[MCONF] += T
+            if s[MCONF] >= start_time:
+                s[MCONF] = -1.0
     if disturbed and s[MOLD] > 0.0 and abs(cn - s[MOLD]) <= norm_th * s[MOLD] and abs(cdp - s[MOLD + 1]) <= dip_th:
         # the field is back to the one before the last change of reference (a disturbance that ended)
         s[MREF], s[MOLD] = s[MOLD], s[MREF]
@@ -584,7 +599,7 @@ def _block(
         err = (err + math.pi) % (2.0 * math.pi) - math.pi
         # the mean of the updates so far until it averages longer than tau_mag (VQF's fast start): the first
         # field sets the heading at once, also when the estimate started before the magnetometer's first sample
-        s[MAGN] += 1.0
+        s[MAGN] = 1.0 if starting else s[MAGN] + 1.0
         delta += max(kmag, 1.0 / s[MAGN]) * err
         delta = (delta + math.pi) % (2.0 * math.pi) - math.pi
         s[DELTA] = delta

@@ -53,11 +53,18 @@ How it works
    ``mag_new_time`` is taken as a new environment, and a return to the previous field is recognised at once.
    The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
    see on a level platform.
-6. Offline (:func:`attitude_offline`).  The recording runs forward and backward in time with time constants
-   ``offline_time_factor`` times longer; their lags are equal and opposite, so their weighted mean cancels them.
-   With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed forward
-   and backward in time by a local-linear fit (which follows the ramp a vertical gyro bias gives the 6D heading
-   right to the ends of the record), with the samples either pass found disturbed left out.
+6. Offline (:func:`attitude_offline`).  A smoother of the bias and scale states, then of the attitude.  The
+   estimator runs forward and backward in time (time constants ``offline_time_factor`` times longer, 9D with a
+   magnetometer); at each sample the two bias estimates, each from one side of the record and so independent,
+   are combined by their inverse variances (the two-filter form of the Rauch-Tung-Striebel smoother), and the
+   scale is the mean of the two passes' final estimates, each of which has seen the whole record.  Two 6D
+   passes, forward and backward, then run on the gyro corrected by that smoothed bias and scale, holding them:
+   no pass spends its first minutes learning what the other end of the record already knows.  Their lags are
+   equal and opposite, so their weighted mean (weights 1 - exp(-t/tau_acc) from each pass's start) cancels
+   them.  With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed
+   forward and backward in time by a local-linear fit (time constant ``offline_heading_tau``; it follows the
+   ramp a residual vertical bias gives the 6D heading right to the ends of the record), with the samples
+   either bias pass found disturbed left out.
 
 Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
 Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.
@@ -167,7 +174,12 @@ class AttitudeParams:
         Rate of the bias, scale and heading updates, Hz.  Default 5: the regressors are low-passed over
         seconds, and on BROAD 2-50 Hz give the same errors within 0.05°.
     offline_time_factor : float
-        :func:`attitude_offline` runs with ``tau_acc`` and ``tau_mag`` multiplied by this.  Default 1.5.
+        :func:`attitude_offline` learns the bias and scale in passes with ``tau_acc`` and ``tau_mag`` multiplied
+        by this.  Default 1.5.
+    offline_heading_tau : float
+        Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
+        Default 60: with the bias smoothed, the 6D heading drifts only with what is left of it, a ramp the
+        local-linear fit follows, so the field can be averaged longer than online.
     """
 
     tau_acc: float = 3.5
@@ -194,6 +206,7 @@ class AttitudeParams:
     mag_start_time: float = 2.0
     update_rate: float = 5.0
     offline_time_factor: float = 1.5
+    offline_heading_tau: float = 60.0
 
     def __post_init__(self):
         zero_ok = {
@@ -515,16 +528,18 @@ def attitude_offline(
 ) -> Estimate:
     """Orientation from a whole recording, using the future as well as the past (module notes, step 6).
 
-    1. The 6D estimator runs forward and backward in time with ``tau_acc`` and ``tau_mag`` multiplied by
-       ``params.offline_time_factor``; their lags are equal and opposite, and each sample takes their mean,
-       weighted by how long each pass has been running (``1 - exp(-t/tau_acc)``), after turning the backward
-       heading onto the forward one.
-    2. With a magnetometer, the field is taken into that combined 6D frame and the heading that turns it north
-       is smoothed forward and backward in time by a local-linear fit (time constant ``tau_mag``; no lag
-       behind the heading drift of a vertical gyro bias, even at the ends), leaving out every sample either
-       9D pass flagged as magnetically disturbed; the gaps are bridged by the samples around them.  If every
-       sample is disturbed (a magnetometer with uncalibrated hard iron, say), the combined 6D attitude is
-       turned onto the forward 9D pass's mean heading instead.
+    1. The estimator (9D with a magnetometer) runs forward and backward in time with ``tau_acc`` and
+       ``tau_mag`` multiplied by ``params.offline_time_factor``; at each sample the two bias estimates are
+       combined by inverse variance (two-filter smoother), and the scale is the mean of the passes' final ones.
+    2. Forward and backward 6D passes on the gyro corrected by that bias and scale (held fixed) give the
+       inclination: each sample takes their mean, weighted by how long each pass has been running
+       (``1 - exp(-t/tau_acc)``), after turning the backward heading onto the forward one.
+    3. With a magnetometer, the field is taken into that combined 6D frame and the heading that turns it north
+       is smoothed forward and backward in time by a local-linear fit (time constant
+       ``offline_heading_tau``), leaving out every sample either pass of step 1 flagged as magnetically
+       disturbed; the gaps are bridged by the samples around them.  If every sample is disturbed (a
+       magnetometer with uncalibrated hard iron, say), the combined 6D attitude is turned onto the forward
+       pass's mean heading instead.
 
     Parameters
     ----------
@@ -538,9 +553,9 @@ def attitude_offline(
     Returns
     -------
     Estimate
-        Attitudes, the two passes' bias estimates weighted by their inverse variances, with the standard
-        deviation of that mean (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest and
-        missing accelerometer from the forward pass, magnetic disturbance from either.
+        Attitudes, the smoothed bias (the two passes' estimates weighted by their inverse variances) with its
+        standard deviation (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest, missing
+        accelerometer and bias at the limit from the forward pass, magnetic disturbance from either.
 
     Examples
     --------
@@ -559,8 +574,10 @@ def attitude_offline(
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
     a = np.asarray(acc, dtype=np.float64)
     m = None if mag is None else np.asarray(mag, dtype=np.float64)
-    fwd = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
-    fwd6 = fwd.update(g, a, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
+    # 1. the bias and scale: forward and backward passes, combined per sample by inverse variance (the
+    # two-filter smoother: each pass has seen one side of the sample, independently)
+    first = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
+    fwd = first.update(g, a, m, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
     if known_acc is not None:
         a = a - np.asarray(known_acc, dtype=np.float64)  # validated by the forward pass
     if g.shape[0] == 0:  # nothing to smooth
@@ -568,21 +585,31 @@ def attitude_offline(
         empty.extra = {"bias_sigma": np.zeros((0, 3))}
         return empty
     gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
+    back = AttitudeEstimator(po)
+    bwd = back.update(gr, ar, mr, dt=dtr, t=tr)
+    sigma_f, sigma_b = fwd.extra["bias_sigma"], bwd.extra["bias_sigma"][::-1]
+    info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
+    bias = (info_f * fwd.bias - info_b * bwd.bias[::-1]) / (info_f + info_b)  # the backward rates are negated
+    sigma = 1.0 / np.sqrt(info_f + info_b)
+    scale = 0.5 * (first.scale + back.scale)  # each pass's final estimate has seen the whole record
+    # 2. the attitude: forward and backward 6D passes on the gyro corrected by the smoothed bias and scale, which
+    # they hold (so that no pass spends its first minutes learning what the other side of the record knows)
+    corrected = g - bias - scale * g
+    held = replace(p, bias_sigma_init=1e-9 * _DEG, scale_sigma_init=0.0, bias_noise_mag=0.0)
+    fwd6 = AttitudeEstimator(held).update(corrected, a, dt=dt, t=t)
+    gcr, _, _, _, _ = _reverse(corrected, a, None, dt, t)
+    bwd6 = AttitudeEstimator(held).update(gcr, ar, dt=dtr, t=tr)
     intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
     n = g.shape[0]
     if intervals is None:
         intervals = np.broadcast_to(np.asarray(dt, dtype=np.float64), (n,))[1:]
     time = np.concatenate([[0.0], np.cumsum(intervals)])
-    bwd6 = AttitudeEstimator(po).update(gr, ar, dt=dtr, t=tr)
-    wf = 1.0 - np.exp(-time / po.tau_acc) + 1e-12
-    wb = 1.0 - np.exp(-(time[-1] - time) / po.tau_acc) + 1e-12
+    wf = 1.0 - np.exp(-time / held.tau_acc) + 1e-12
+    wb = 1.0 - np.exp(-(time[-1] - time) / held.tau_acc) + 1e-12
     q = _combine(fwd6.q, bwd6.q[::-1], wf, wb, align_heading=True)
-    bias_f, bias_b, flags = fwd6.bias, -bwd6.bias[::-1], fwd6.flags.copy()
-    sigma_f, sigma_b = fwd6.extra["bias_sigma"], bwd6.extra["bias_sigma"][::-1]
+    flags = fwd.flags.copy()
     if m is not None:
-        fwd9 = AttitudeEstimator(po).update(g, a, m, dt=dt, t=t)
-        bwd9 = AttitudeEstimator(po).update(gr, ar, mr, dt=dtr, t=tr)
-        disturbed = ((fwd9.flags | bwd9.flags[::-1]) & FLAG_MAG_REJECTED) > 0
+        disturbed = ((fwd.flags | bwd.flags[::-1]) & FLAG_MAG_REJECTED) > 0
         h = rotate(q, np.nan_to_num(m))
         psi = np.arctan2(h[:, 0], h[:, 1])  # the heading offset that turns the field north (+y of ENU)
         weight = (~disturbed & np.isfinite(m[:, 0])).astype(np.float64)
@@ -590,21 +617,15 @@ def attitude_offline(
             # local-linear: the 6D passes cannot see a vertical gyro bias, so psi drifts in a ramp, which an
             # exponential mean would lag by tau_mag times its slope at both ends of the record
             smooth = smooth_directions(
-                np.column_stack([np.cos(psi), np.sin(psi)]), weight, np.r_[0.0, intervals], po.tau_mag
+                np.column_stack([np.cos(psi), np.sin(psi)]), weight, np.r_[0.0, intervals], p.offline_heading_tau
             )
             delta = np.arctan2(smooth[:, 1], smooth[:, 0])
             q = multiply(np.column_stack([np.cos(delta / 2), 0 * delta, 0 * delta, np.sin(delta / 2)]), q, check=False)
         else:  # disturbed everywhere (an uncalibrated magnetometer): keep the forward 9D pass's mean heading
-            q = _align_heading(fwd9.q, q, np.ones(n))
-        bias_f, bias_b = fwd9.bias, -bwd9.bias[::-1]
-        sigma_f, sigma_b = fwd9.extra["bias_sigma"], bwd9.extra["bias_sigma"][::-1]
-        flags = (fwd9.flags & np.uint8(0xFF ^ FLAG_MAG_REJECTED)) | np.where(disturbed, FLAG_MAG_REJECTED, 0).astype(
+            q = _align_heading(fwd.q, q, np.ones(n))
+        flags = (fwd.flags & np.uint8(0xFF ^ FLAG_MAG_REJECTED)) | np.where(disturbed, FLAG_MAG_REJECTED, 0).astype(
             np.uint8
         )
     if frame != "ENU":
         q = multiply(frame_quaternion("ENU", frame), q, check=False)
-    # the two passes' bias estimates, each weighted by how well it knows the bias (inverse variance)
-    info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
-    bias = (info_f * bias_f + info_b * bias_b) / (info_f + info_b)
-    sigma = 1.0 / np.sqrt(info_f + info_b)
     return Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})

@@ -52,43 +52,47 @@ MCONF = 120  # 1: seconds the first field has been consistent (< 0: it is the re
 ALIN = 113  # 1: the horizontal rate² of the low-passed linear acceleration, times dt, summed over the block
 RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I
 RLV = 117  # 3: its rate
-SIZE = 121
+XA = 121  # 3: accelerometer bias, sensor axes, m/s² (Kalman states 6-8)
+SIZE = 124
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
+NX = 9  # Kalman states: gyro bias (3), gyro scale-factor errors (3), accelerometer bias (3)
 N_SUMS = 27  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag,
 # linear acceleration²
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def kalman(x, P, H, z, R, nm, PHt, K, tmp):
-    """In-place Kalman update of the 6-state x, P with nm <= 3 measurements z = H x + noise of variances R.
+    """In-place Kalman update of the NX-state x, P with nm <= 3 measurements z = H x + noise of variances R.
 
     Written for speed at the block rate: P is symmetric, so only its upper triangle is formed and mirrored.
     """
     for j in range(nm):
-        h0, h1, h2, h3, h4, h5 = H[j, 0], H[j, 1], H[j, 2], H[j, 3], H[j, 4], H[j, 5]
-        for i in range(6):
-            PHt[i, j] = P[i, 0] * h0 + P[i, 1] * h1 + P[i, 2] * h2 + P[i, 3] * h3 + P[i, 4] * h4 + P[i, 5] * h5
+        for i in range(NX):
+            d = 0.0
+            for c in range(NX):
+                d += P[i, c] * H[j, c]
+            PHt[i, j] = d
     # S = H P Hᵀ + R, inverted in closed form
     s00 = R[0]
-    for c in range(6):
+    for c in range(NX):
         s00 += H[0, c] * PHt[c, 0]
     if nm == 1:
         i00 = 1.0 / s00
-        for i in range(6):
+        for i in range(NX):
             K[i, 0] = PHt[i, 0] * i00
     elif nm == 2:
         s01 = 0.0
         s11 = R[1]
-        for c in range(6):
+        for c in range(NX):
             s01 += H[0, c] * PHt[c, 1]
             s11 += H[1, c] * PHt[c, 1]
         det = s00 * s11 - s01 * s01
         i00 = s11 / det
         i01 = -s01 / det
         i11 = s00 / det
-        for i in range(6):
+        for i in range(NX):
             a0 = PHt[i, 0]
             a1 = PHt[i, 1]
             K[i, 0] = a0 * i00 + a1 * i01
@@ -97,7 +101,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
         s01 = s02 = s12 = 0.0
         s11 = R[1]
         s22 = R[2]
-        for c in range(6):
+        for c in range(NX):
             s01 += H[0, c] * PHt[c, 1]
             s02 += H[0, c] * PHt[c, 2]
             s11 += H[1, c] * PHt[c, 1]
@@ -113,7 +117,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
         i11 = (s00 * s22 - s02 * s02) * inv_det
         i12 = (s01 * s02 - s00 * s12) * inv_det
         i22 = (s00 * s11 - s01 * s01) * inv_det
-        for i in range(6):
+        for i in range(NX):
             a0 = PHt[i, 0]
             a1 = PHt[i, 1]
             a2 = PHt[i, 2]
@@ -121,17 +125,18 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
             K[i, 1] = a0 * i01 + a1 * i11 + a2 * i12
             K[i, 2] = a0 * i02 + a1 * i12 + a2 * i22
     for j in range(nm):
-        tmp[j] = z[j] - (
-            H[j, 0] * x[0] + H[j, 1] * x[1] + H[j, 2] * x[2] + H[j, 3] * x[3] + H[j, 4] * x[4] + H[j, 5] * x[5]
-        )
-    for i in range(6):
+        d = z[j]
+        for c in range(NX):
+            d -= H[j, c] * x[c]
+        tmp[j] = d
+    for i in range(NX):
         d = 0.0
         for j in range(nm):
             d += K[i, j] * tmp[j]
         x[i] += d
     # P -= K (H P) = K PHtᵀ, upper triangle then mirrored
-    for i in range(6):
-        for c in range(i, 6):
+    for i in range(NX):
+        for c in range(i, NX):
             d = 0.0
             for j in range(nm):
                 d += K[i, j] * PHt[c, j]
@@ -163,7 +168,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     mx, my, mz = s[AFO], s[AFO + 1], s[AFO + 2]
     a_init, a_cnt = s[AINIT], s[ACNT]
     asx, asy, asz = s[ASUM], s[ASUM + 1], s[ASUM + 2]
-    x = s[X : X + 6].copy()
+    x = np.empty(NX)
+    x[:6] = s[X : X + 6]
+    x[6:] = s[XA : XA + 3]
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
@@ -177,13 +184,14 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     rax, ray, raz = s[RESTA], s[RESTA + 1], s[RESTA + 2]
     rest = s[REST]
     rv = s[RESTV]
-    H = np.zeros((3, 6))
+    H = np.zeros((3, NX))
     z = np.zeros(3)
     R = np.zeros(3)
-    PHt = np.zeros((6, 3))
-    K = np.zeros((6, 3))
+    PHt = np.zeros((NX, 3))
+    K = np.zeros((NX, 3))
     tmp = np.zeros(3)
-    work = np.zeros(N_REG + 9)  # regressor outputs; cached block coefficients: T, 4 of lowpass2, kmag, kcur, kref
+    # regressor outputs; cached block coefficients: T, 4 of lowpass2, kmag, kcur, kref; changes of the 6 row channels
+    work = np.zeros(N_REG + 9 + 6)
     work[N_REG] = -1.0
     last_dt = -1.0
     last_t_acc = -1.0
@@ -194,6 +202,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     sg1 = math.sqrt(P[1, 1])
     sg2 = math.sqrt(P[2, 2])
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+    bax, bay, baz = x[6], x[7], x[8]
     start = 0  # first sample of the current block in this chunk
     n = gyr.shape[0]
     for k in range(n):
@@ -231,7 +240,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             ax = ax_
             ay = acc[k, 1]
             az = acc[k, 2]
-            ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
+            ix, iy, iz = rotate(gw, gx, gy, gz, ax - bax, ay - bay, az - baz)
             if a_init >= 0.0:
                 # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
                 # in I (VQF starts its filters so).  A low-pass started at the first sample would carry that
@@ -347,6 +356,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             sg1 = math.sqrt(P[1, 1])
             sg2 = math.sqrt(P[2, 2])
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+            bax, bay, baz = x[6], x[7], x[8]
             at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
             tb = 0.0
             for i in range(N_SUMS):
@@ -360,7 +370,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz
     s[AINIT], s[ACNT] = a_init, a_cnt
     s[ASUM], s[ASUM + 1], s[ASUM + 2] = asx, asy, asz
-    s[X : X + 6] = x
+    s[X : X + 6] = x[:6]
+    s[XA : XA + 3] = x[6:]
     s[ACC : ACC + 24] = sums[:24]
     s[W2] = sums[24]
     s[ALIN] = sums[26]
@@ -465,7 +476,7 @@ def _block(
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
     r_motion, kappa2, r_rest, r_mag, prior = p[4], p[5], p[6], p[7], p[12]
     norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
-    acc_factor, start_time = p[19], p[20]
+    acc_factor, start_time, q_acc = p[19], p[20], p[21]
     w2_sum = accu[24]
     t_mag = accu[25]
     c = N_REG
@@ -484,11 +495,12 @@ def _block(
     phi = math.exp(-T * q_bias / (2.0 * prior * prior))
     for i in range(3):
         x[i] *= phi
-        for j in range(6):
+        for j in range(NX):
             P[i, j] *= phi
             P[j, i] *= phi
         P[i, i] += prior * prior * (1.0 - phi * phi)
         P[3 + i, 3 + i] += q_scale * T
+        P[6 + i, 6 + i] += q_acc * T
     # the regressors through the same low-pass as the accelerometer (box mean of the block, then Butterworth at
     # the block rate): the correction rate responds to a bias error through that filter (math: attitude.py)
     # rows of R times the bias-and-scale correction, constant over the block: linear in the other sums
@@ -511,6 +523,8 @@ def _block(
         r = p10 * d + p11 * r0
         s[j] = y
         s[j + 1] = r
+        if i < 6:  # the rows of R: their low-passed change over the block (accelerometer bias)
+            work[N_REG + 9 + i] = y - y0
         # the measurement is the correction's mean rate over the block, so the regressor is the filter output's
         # mean over the block too, not its end value (half a block later): integrating the filter's ODE
         # (tau²/2) y'' + tau y' + y = u over the block gives mean(y) = u - (tau Δy + tau²/2 Δy') / T exactly
@@ -529,13 +543,23 @@ def _block(
         H[1, 3 + j] = lp[9 + j]
     z[0] = lp[12] - ex_sum / T
     z[1] = lp[13] - ey_sum / T
+    # An accelerometer bias b_a (sensor axes) leaves LP[R b_a] in the filtered vector, and the correction tilts
+    # by (δ_y, -δ_x)/g with it: over the block it turns by (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g, R_i the rows of R.
+    # The estimate in use is subtracted from the accelerometer, so only the rest is measured.
+    inv_gt = 1.0 / (math.sqrt(g2) * T) if g2 > 0.0 else 0.0
+    d0 = work[N_REG + 9 :]
+    for j in range(3):
+        H[0, 6 + j] = -d0[3 + j] * inv_gt
+        H[1, 6 + j] = d0[j] * inv_gt
+        z[0] += H[0, 6 + j] * x[6 + j]
+        z[1] += H[1, 6 + j] * x[6 + j]
     R[0] = rm
     R[1] = rm
     if not starting:  # while the start averages, the correction does not follow the low-pass the regression models
         kalman(x, P, H, z, R, 2, PHt, K, tmp)
     if at_rest:
         for a in range(3):
-            for j in range(6):
+            for j in range(NX):
                 H[a, j] = 0.0
             H[a, a] = 1.0
             R[a] = max(r_rest / T, rest_var)
@@ -609,6 +633,8 @@ def _block(
         step = (step + math.pi) % (2.0 * math.pi) - math.pi
         for j in range(6):
             H[0, j] = s[V7 + j]
+        for j in range(6, NX):
+            H[0, j] = 0.0
         z[0] = s[V7 + 6] - step / T
         R[0] = (r_mag + kappa2 * w2) / T
         kalman(x, P, H, z, R, 1, PHt, K, tmp)

@@ -3,7 +3,8 @@
     python benchmarks/bench_testbed.py [--seeds 3] [--json results.json]
 
 Each condition varies one thing real data vary, from a common base: a consumer-grade MEMS IMU
-(``ImuModel.consumer_mems()``: noise, bias, scale and cross-axis errors, quantisation, hard and soft iron), 100 Hz,
+(``ImuModel.consumer_mems()``: noise, bias, scale and cross-axis errors, quantisation; its magnetometer
+calibrated, one condition without), 100 Hz,
 a body turning every way and accelerating at about 1 m/s² (``RandomMotion``), the Earth's field, 120 s.  The
 conditions: IMU grades (ideal, consumer, tactical), rates 50-1000 Hz, timestamp jitter and dropped rows (given to
 our estimator as true times; VQF, which takes one interval, gets the nominal one), magnetic environments (a
@@ -70,9 +71,12 @@ class WithRests(Trajectory):
         return self._base.rate(s) * speed[:, None]
 
 
-def consumer(**gyro_changes) -> ImuModel:
+def consumer(calibrated_mag: bool = True, **gyro_changes) -> ImuModel:
+    """The consumer preset, its magnetometer calibrated (hard and soft iron removed) unless asked otherwise."""
     imu = ImuModel.consumer_mems()
     imu = replace(imu, clock=ClockModel())  # no jitter unless a condition adds it
+    if calibrated_mag:
+        imu = replace(imu, mag=replace(imu.mag, bias=np.zeros(3), soft_iron=np.eye(3)))
     return replace(imu, gyro=replace(imu.gyro, **gyro_changes)) if gyro_changes else imu
 
 
@@ -81,10 +85,19 @@ def motion(seed: int, duration: float = 120.0, acceleration: float = 1.0) -> Tra
 
 
 def conditions():
-    """name -> function(seed) -> (trajectory, rate_hz, imu, disturbances, drop fraction, settle s)."""
+    """name -> function(seed) -> (trajectory, rate_hz, imu, disturbances, drop fraction, settle s[, params])."""
     deg = np.radians
     c = {}
     c["consumer, 100 Hz (base)"] = lambda s: (motion(s), 100.0, consumer(), (), 0.0, 10.0)
+    c["  same, accelerometer bias modelled"] = lambda s: (
+        motion(s),
+        100.0,
+        consumer(),
+        (),
+        0.0,
+        10.0,
+        {"acc_bias_sigma_init": 0.1},
+    )
     c["ideal IMU"] = lambda s: (motion(s), 100.0, ImuModel.ideal(), (), 0.0, 10.0)
     c["tactical IMU"] = lambda s: (motion(s), 100.0, ImuModel.tactical(), (), 0.0, 10.0)
     for rate in (50.0, 400.0, 1000.0):
@@ -96,6 +109,7 @@ def conditions():
     c["magnet passing, 10 s"] = lambda s: (motion(s), 100.0, consumer(), passing, 0.0, 10.0)
     carried = [MagneticDisturbance(40.0, 60.0, (20.0, -15.0, 10.0), frame="body")]
     c["magnet carried, 20 s"] = lambda s: (motion(s), 100.0, consumer(), carried, 0.0, 10.0)
+    c["uncalibrated magnetometer"] = lambda s: (motion(s), 100.0, consumer(calibrated_mag=False), (), 0.0, 10.0)
     c["accelerating start (2 m/s²)"] = lambda s: (motion(s, 60.0, 2.0), 100.0, consumer(), (), 0.0, 0.0)
     c["long rests (20 s on, 40 s off)"] = lambda s: (
         WithRests(motion(s, acceleration=0.0), 20.0, 40.0, 240.0),
@@ -128,7 +142,8 @@ def conditions():
 def run_condition(make, seed: int) -> dict:
     from vqf import VQF
 
-    traj, rate, imu, disturbances, drop, settle = make(seed)
+    traj, rate, imu, disturbances, drop, settle, *rest = make(seed)
+    params = rest[0] if rest else None
     d = sample(
         traj,
         rate,
@@ -149,8 +164,8 @@ def run_condition(make, seed: int) -> dict:
     g, a, m, tr = (np.ascontiguousarray(x[rows]) for x in (d.gyro, d.acc, d.mag, t))
     dt = 1.0 / rate
     est = {
-        "ours 6D": attitude(g, a, t=tr).q,
-        "ours 9D": attitude(g, a, m, t=tr).q,
+        "ours 6D": attitude(g, a, t=tr, params=params).q,
+        "ours 9D": attitude(g, a, m, t=tr, params=params).q,
         "VQF 6D": VQF(dt).updateBatch(g, a)["quat6D"],
         "VQF 9D": VQF(dt).updateBatch(g, a, m)["quat9D"],
     }

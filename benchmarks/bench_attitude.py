@@ -1,7 +1,7 @@
 """The AttitudeEstimator against VQF: accuracy on BROAD, robustness, simulated checks, throughput (issue 7).
 
     python benchmarks/bench_attitude.py [--broad DIR] [--n 1000000] [--repeat 5] [--skip-surface] [--json F]
-                                        [--only accuracy,surface,irregular,simulated,throughput] [--trials 01,06]
+                                        [--only accuracy,surface,irregular,logo,simulated,throughput] [--trials 01,06]
 
 Accuracy: the 22 BROAD trials (CC BY 4.0; Laidig et al. 2021), official metric, one parameter set for all
 trials (the defaults), online 6D and 9D and offline 9D, with vqf's VQF and offlineVQF (defaults) run in the same
@@ -9,6 +9,9 @@ process; per-group means (trials.json).  6D errors are taken after removing each
 
 Robustness: mean 9D total and 6D inclination RMSE over a grid of the two main time constants, tau_acc and tau_mag,
 and a two-fold held-out check: the time constants chosen on half of the trials, scored on the other half.
+
+Leave-one-group-out (issue 13): every default this round moved or added, chosen on all of BROAD's 9 kinds of
+trial but one and scored on the one left out; the pooled held-out mean next to the in-sample ones.
 
 Irregular sampling (issue 13): each trial as recorded, with 10 % of its rows dropped at random (the true times of
 the rest passed as ``t``), and with 10 % of its accelerometer and 10 % of its magnetometer rows NaN ("no sample");
@@ -153,6 +156,75 @@ def held_out(trials, per_trial: dict, defaults: tuple) -> dict:
     ref = f" (VQF {vqf9.mean():.3f})" if vqf9 is not None else ""
     print(f"  every trial scored held out: mean 9D total {pooled.mean():.3f} deg{ref}")
     out["pooled"] = float(pooled.mean())
+    return out
+
+
+def logo_group(trial) -> str:
+    """The trial's kind, for leave-one-group-out: its name without number, take letter, breaks or magnet distance
+    (9 disjoint groups: slow/fast rotation, slow/fast translation, combined, tapping, vibration, stationary and
+    attached magnet)."""
+    import re
+
+    kind = trial.name.split("_", 1)[1]
+    kind = re.sub(r"_[A-D]$", "", kind)
+    kind = re.sub(r"_\d+cm$", "", kind)
+    return kind.replace("_with_breaks", "")
+
+
+# the defaults this round moved or added, their grids, and the metric each is chosen on
+LOGO_GRIDS = {
+    "bias_noise_acc_factor": ([0.0, 0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
+    "acc_bias_sigma_init": ([0.0, 0.01, 0.03], "6D", "inclination"),
+    "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
+}
+
+
+def leave_one_group_out(trials) -> dict:
+    """For each default this round moved: chosen on all groups but one, scored on the one left out (issue 13).
+
+    One parameter at a time, the others at their defaults.  For every left-out group the grid value with the
+    lowest mean over the other groups' trials is chosen and scored on the left-out trials; the pooled held-out
+    mean (every trial scored by a choice made without its group) is printed next to the in-sample mean of the
+    default and of the best value on all trials.
+    """
+    groups = np.array([logo_group(t) for t in trials])
+    print(f"\nLeave-one-group-out on BROAD ({len(set(groups))} groups: {', '.join(sorted(set(groups)))})")
+    out = {}
+    for name, (values, mode, metric) in LOGO_GRIDS.items():
+        per = {}
+        for v in values:
+            if mode == "offline":
+                ev = evaluate(
+                    lambda t, v=v, name=name: attitude_offline(t.gyr, t.acc, t.mag, dt=t.dt, params={name: v}),
+                    trials,
+                    heading_offset=False,
+                )
+            else:
+                ev = evaluate("attitude", trials, params={name: v}, mag=mode == "9D")
+            per[v] = np.array([r.get(metric) for r in ev.trials])
+        held = np.empty(len(trials))
+        chosen = {}
+        for g in sorted(set(groups)):
+            out_g = groups == g
+            pick = min(values, key=lambda v: per[v][~out_g].mean())
+            chosen[g] = pick
+            held[out_g] = per[pick][out_g]
+        default = getattr(AttitudeParams(), name)
+        best = min(values, key=lambda v: per[v].mean())
+        grid = ", ".join(f"{v:g}: {per[v].mean():.3f}" for v in values)
+        print(f"  {name} ({mode} {metric}); in-sample means {grid}")
+        picks = ", ".join(f"{g} -> {chosen[g]:g}" for g in sorted(chosen))
+        print(
+            f"    held out (pooled): {held.mean():.3f} deg; default {default:g} in-sample {per[default].mean():.3f}, "
+            f"best in-sample {best:g} {per[best].mean():.3f}; choices: {picks}"
+        )
+        out[name] = {
+            "held_out": float(held.mean()),
+            "default": default,
+            "default_in_sample": float(per[default].mean()),
+            "grid": {str(v): float(per[v].mean()) for v in values},
+            "choices": {g: float(v) for g, v in chosen.items()},
+        }
     return out
 
 
@@ -335,7 +407,7 @@ def main(argv=None):
     ap.add_argument("--skip-surface", action="store_true")
     ap.add_argument(
         "--only",
-        help="comma-separated sections to run: accuracy, surface, irregular, simulated, throughput (default: all)",
+        help="comma-separated sections: accuracy, surface, irregular, logo, simulated, throughput (default: all)",
     )
     ap.add_argument("--trials", help="comma-separated trial numbers to use (default: all 22), e.g. 01,06,21")
     ap.add_argument("--json")
@@ -347,9 +419,8 @@ def main(argv=None):
     t0 = time.perf_counter()
     results = {}
     trials = []
-    sections = (
-        set(args.only.split(",")) if args.only else {"accuracy", "surface", "irregular", "simulated", "throughput"}
-    )
+    every = {"accuracy", "surface", "irregular", "logo", "simulated", "throughput"}
+    sections = set(args.only.split(",")) if args.only else every
     if args.skip_surface:
         sections.discard("surface")
     if (args.broad / "data_mat").is_dir():
@@ -365,6 +436,8 @@ def main(argv=None):
             results["surface"] = surface(trials)
         if "irregular" in sections:
             results["irregular"] = irregular(trials)
+        if "logo" in sections:
+            results["leave_one_group_out"] = leave_one_group_out(trials)
     else:
         print(f"BROAD not found at {args.broad}: accuracy skipped")
     if "simulated" in sections:

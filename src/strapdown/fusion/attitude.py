@@ -191,8 +191,8 @@ class AttitudeParams:
         by this.  Default 1.5.
     offline_heading_tau : float
         Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
-        Default 60: with the bias smoothed, the 6D heading drifts only with what is left of it, a ramp the
-        local-linear fit follows, so the field can be averaged longer than online.
+        Default 100 (leave-one-group-out on BROAD): with the bias smoothed, the 6D heading drifts only with what
+        is left of it, a ramp the local-linear fit follows, so the field can be averaged longer than online.
     """
 
     tau_acc: float = 3.5
@@ -221,7 +221,7 @@ class AttitudeParams:
     mag_start_time: float = 2.0
     update_rate: float = 5.0
     offline_time_factor: float = 1.5
-    offline_heading_tau: float = 60.0
+    offline_heading_tau: float = 100.0
 
     def __post_init__(self):
         zero_ok = {

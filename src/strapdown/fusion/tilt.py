@@ -29,7 +29,11 @@ accelerometer, or inclinometer angles):
    the almost-inertial frame turns and the correction ``q_c`` has to turn with it at the rate of the error, so
    the correction rate, taken to body axes, is fed back with time constant ``tau_bias``.  That rate has no
    component about the vertical, so in motion only the two horizontal components of the bias are observable;
-   the vertical one is learnt only at rest.
+   the vertical one is learnt only at rest.  ``bias_limit`` is a prior's bound, not a clip: the estimate leaks
+   towards zero over ten hours (a Gauss-Markov bias) and is flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so
+   a real 4.5°/s bias is learnt instead of held at the limit.
+5. Irregular sampling: every coefficient is computed for its interval, and over an interval that holds lost
+   rows the gyro rate is interpolated across the gap (as in the AttitudeEstimator, whose notes explain it).
 
 Where the patent leaves the design open (its gains and rates were not retrieved, math.md §5.6), these choices
 are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule; 0.80° mean
@@ -245,7 +249,10 @@ class TiltParams:
     tau_rest_bias : float
         Time constant with which the bias follows the gyro at rest, s.  Default 1.0.
     bias_limit : float
-        Largest bias magnitude believed, per axis, rad/s (also the largest mean rate at rest).  Default 2°/s.
+        Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
+        pulled towards zero over ten hours (a Gauss-Markov bias), so a larger bias the data show is learnt, and
+        flagged ``FLAG_BIAS_AT_LIMIT`` while it lies beyond the bound; a steady mean rate up to three times it
+        counts as a bias at rest.
     acc_gate : float
         Leave the tilt sensor out of the low-pass filter when its magnitude differs from g by more than this,
         m/s² (a gate against shocks); inf keeps every sample.  Default inf.
@@ -380,6 +387,8 @@ class TiltEstimator(Estimator):
             "acc_filter": np.array([a_i, a_i]),  # the two low-pass stages, almost-inertial frame, m/s²
             "rest_filter": np.concatenate([np.zeros(3), acc[0]]),  # 0.5 s means of gyro and tilt sensor
             "rest_seconds": 0.0,
+            "gyro_previous": np.zeros(3),  # the last gyro sample, rad/s (rate interpolation across lost rows)
+            "nominal_interval": 0.0,  # s, the shortest recent sample interval (0: none yet)
         }
 
     @property
@@ -406,6 +415,8 @@ class TiltEstimator(Estimator):
                 st["acc_filter"].ravel(),
                 st["rest_filter"],
                 [st["rest_seconds"]],
+                st.get("gyro_previous", np.zeros(3)),  # states saved before these existed restore too
+                [st.get("nominal_interval", 0.0)],
             ]
         )
         k.run(
@@ -433,6 +444,8 @@ class TiltEstimator(Estimator):
         st["acc_filter"] = s[k.LP1 : k.LP2 + 3].reshape(2, 3)
         st["rest_filter"] = s[k.GLP : k.ALP + 3].copy()
         st["rest_seconds"] = float(s[k.REST])
+        st["gyro_previous"] = s[k.GPREV : k.GPREV + 3].copy()
+        st["nominal_interval"] = float(s[k.NOMDT])
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
 
 

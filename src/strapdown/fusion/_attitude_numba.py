@@ -53,7 +53,9 @@ ALIN = 113  # 1: the horizontal rate² of the low-passed linear acceleration, ti
 RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I
 RLV = 117  # 3: its rate
 XA = 121  # 3: accelerometer bias, sensor axes, m/s² (Kalman states 6-8)
-SIZE = 124
+ALAST = 124  # 3: the last accelerometer sample (rest detection holds it through missing rows)
+INVM2 = 127  # 1: 1/|filtered vector|² at the last block update (0: none yet)
+SIZE = 128
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
@@ -159,8 +161,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
     """
     tau_acc = p[0]
-    rest_gyr2, rest_acc2, rest_time, rest_tau, prior, t_block = p[8], p[9], p[10], p[11], p[12], p[18]
-    rest_mean_max = REST_MEAN_FACTOR * prior
+    rest_time, rest_tau, prior, t_block = p[10], p[11], p[12], p[18]
     at_limit = FLAG_BIAS_AT_LIMIT if max(abs(s[X]), abs(s[X + 1]), abs(s[X + 2])) > prior else 0
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
@@ -180,10 +181,17 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     sums[25] = s[NMAG]
     tb = s[TB]
     sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
-    rgx, rgy, rgz = s[RESTG], s[RESTG + 1], s[RESTG + 2]
-    rax, ray, raz = s[RESTA], s[RESTA + 1], s[RESTA + 2]
-    rest = s[REST]
-    rv = s[RESTV]
+    # the rest detector's state: gyro mean, accelerometer mean, seconds at rest, gyro scatter, last accelerometer
+    # sample, and its last coefficient (index 11) for the interval of index 12
+    rs = np.empty(13)
+    rs[0:3] = s[RESTG : RESTG + 3]
+    rs[3:6] = s[RESTA : RESTA + 3]
+    rs[6] = s[REST]
+    rs[7] = s[RESTV]
+    rs[8:11] = s[ALAST : ALAST + 3]
+    rs[11] = 0.0
+    rs[12] = -1.0
+    rest = rs[6]
     H = np.zeros((3, NX))
     z = np.zeros(3)
     R = np.zeros(3)
@@ -193,23 +201,22 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     # regressor outputs; cached block coefficients: T, 4 of lowpass2, kmag, kcur, kref; changes of the 6 row channels
     work = np.zeros(N_REG + 9 + 6)
     work[N_REG] = -1.0
-    last_dt = -1.0
     last_t_acc = -1.0
     t_acc = s[TACC]
     p00 = p01 = p10 = p11 = rr = f_dt = 0.0
-    ax = ay = az = 0.0
     sg0 = math.sqrt(P[0, 0])
     sg1 = math.sqrt(P[1, 1])
     sg2 = math.sqrt(P[2, 2])
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
     bax, bay, baz = x[6], x[7], x[8]
     start = 0  # first sample of the current block in this chunk
+    inv_m2 = s[INVM2]
+    if inv_m2 == 0.0:
+        m2 = mx * mx + my * my + mz * mz
+        inv_m2 = 1.0 / m2 if m2 > 0.0 else 0.0
     n = gyr.shape[0]
     for k in range(n):
         dt = dts[k]
-        if dt != last_dt:  # coefficients change only with the interval
-            rr = 1.0 - math.exp(-dt / rest_tau)
-            last_dt = dt
         flag = 0
         wx = gyr[k, 0]
         wy = gyr[k, 1]
@@ -237,10 +244,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 last_t_acc = t_acc
             f_dt = t_acc
             t_acc = 0.0
-            ax = ax_
-            ay = acc[k, 1]
-            az = acc[k, 2]
-            ix, iy, iz = rotate(gw, gx, gy, gz, ax - bax, ay - bay, az - baz)
+            ix, iy, iz = rotate(gw, gx, gy, gz, ax_ - bax, acc[k, 1] - bay, acc[k, 2] - baz)
             if a_init >= 0.0:
                 # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
                 # in I (VQF starts its filters so).  A low-pass started at the first sample would carry that
@@ -278,7 +282,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 d = qz_ - (iz - mz)
                 qz_ = iz - mz + p00 * d + p01 * qvz
                 qvz = p10 * d + p11 * qvz
-                vm = (qvx * mx + qvy * my + qvz * mz) ** 2 / (mx * mx + my * my + mz * mz)
+                vm = (qvx * mx + qvy * my + qvz * mz) ** 2 * inv_m2  # the vertical part, 1/|m|² per block
                 sums[26] += (qvx * qvx + qvy * qvy + qvz * qvz - vm) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
@@ -288,35 +292,13 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         out[k, 1] = cw * gx + c1 * gw + c2 * gz
         out[k, 2] = cw * gy - c1 * gz + c2 * gw
         out[k, 3] = cw * gz + c1 * gy - c2 * gx
-        # 5. rest: gyro and accelerometer close to their 0.5 s means for rest_time
-        rgx += rr * (wx - rgx)
-        rgy += rr * (wy - rgy)
-        rgz += rr * (wz - rgz)
-        rax += rr * (ax - rax)
-        ray += rr * (ay - ray)
-        raz += rr * (az - raz)
-        dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
-        da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
-        rv += rr * (dg - rv)
-        # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
-        # must also be plausible as a bias under the prior (VQF tests it against its bias clip)
-        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < rest_mean_max:
-            rest += dt
-        else:
-            rest = 0.0
-        if rest >= rest_time:
-            flag |= FLAG_REST
-        bias_out[k, 0] = bx
-        bias_out[k, 1] = by
-        bias_out[k, 2] = bz
-        sigma_out[k, 0] = sg0
-        sigma_out[k, 1] = sg1
-        sigma_out[k, 2] = sg2
         flags[k] = flag | at_limit
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
             _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
+            _rest(gyr, acc, dts, start, k + 1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
+            rest, rr = rs[6], rs[11]
             start = k + 1
             # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
             ex_sum, ey_sum, _ = unit_rotvec(
@@ -326,7 +308,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             # Variance of the rest mean as a bias measurement, per axis: the gyro's own scatter through the
             # exponential mean (factor rr/(2-rr)), times the number of block updates that share one mean's
             # memory (2 rest_tau / T), which the filter would otherwise count as independent.
-            rest_var = rv / 3.0 * rr / (2.0 - rr) * max(1.0, 2.0 * rest_tau / tb)
+            rest_var = rs[7] / 3.0 * rr / (2.0 - rr) * max(1.0, 2.0 * rest_tau / tb)
             s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz  # the filtered vector now (g for the noise of step 3)
             _block(
                 s,
@@ -338,9 +320,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 ey_sum,
                 rest >= rest_time,
                 a_init >= 0.0,
-                rgx,
-                rgy,
-                rgz,
+                rs[0],
+                rs[1],
+                rs[2],
                 rest_var,
                 use_mag,
                 p,
@@ -358,12 +340,15 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
             bax, bay, baz = x[6], x[7], x[8]
             at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
+            m2 = mx * mx + my * my + mz * mz
+            inv_m2 = 1.0 / m2 if m2 > 0.0 else 0.0
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
     # the unfinished block: its sums so far are kept in the state
     _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
+    _rest(gyr, acc, dts, start, n, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
     s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
@@ -379,12 +364,62 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[NMAG] = sums[25]
     s[TB] = tb
     s[EXS], s[EXS + 1], s[EXS + 2] = sw, s1, s2
-    s[RESTG], s[RESTG + 1], s[RESTG + 2] = rgx, rgy, rgz
-    s[RESTA], s[RESTA + 1], s[RESTA + 2] = rax, ray, raz
-    s[REST] = rest
-    s[RESTV] = rv
+    s[RESTG : RESTG + 3] = rs[0:3]
+    s[RESTA : RESTA + 3] = rs[3:6]
+    s[REST] = rs[6]
+    s[RESTV] = rs[7]
+    s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
+    s[INVM2] = inv_m2
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2):
+    """Rest detection over samples j0..j1-1 (module notes, step 4), and their bias, sigma and rest flag.
+
+    Gyro and accelerometer close to their 0.5 s means for rest_time, the mean rate plausible as a bias.  Nothing
+    in the per-sample recursion depends on it (the bias changes at block updates only), so it runs here, a loop
+    of its own the processor can pipeline, rather than lengthening the recursion's.
+    """
+    rest_gyr2, rest_acc2, rest_time, rest_tau = p[8], p[9], p[10], p[11]
+    rest_mean_max = REST_MEAN_FACTOR * p[12]
+    rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
+    rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
+    bx, by, bz = x[0], x[1], x[2]
+    for j in range(j0, j1):
+        dt = dts[j]
+        if dt != last_dt:  # the coefficient changes only with the interval
+            rr = 1.0 - math.exp(-dt / rest_tau)
+            last_dt = dt
+        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        if acc[j, 0] == acc[j, 0]:  # a missing sample holds the last one
+            ax, ay, az = acc[j, 0], acc[j, 1], acc[j, 2]
+        rgx += rr * (wx - rgx)
+        rgy += rr * (wy - rgy)
+        rgz += rr * (wz - rgz)
+        rax += rr * (ax - rax)
+        ray += rr * (ay - ray)
+        raz += rr * (az - raz)
+        dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
+        da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
+        rv += rr * (dg - rv)
+        # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
+        # must also be plausible as a bias under the prior (VQF tests it against its bias clip)
+        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < rest_mean_max:
+            rest += dt
+        else:
+            rest = 0.0
+        if rest >= rest_time:
+            flags[j] |= FLAG_REST
+        bias_out[j, 0] = bx
+        bias_out[j, 1] = by
+        bias_out[j, 2] = bz
+        sigma_out[j, 0] = sg0
+        sigma_out[j, 1] = sg1
+        sigma_out[j, 2] = sg2
+    rs[0], rs[1], rs[2], rs[3], rs[4], rs[5] = rgx, rgy, rgz, rax, ray, raz
+    rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12] = rest, rv, ax, ay, az, rr, last_dt
 
 
 @nb.njit(cache=True, error_model="numpy")

@@ -310,6 +310,8 @@ _LAYOUT = (
     ("linear_acc_filter_rate", "RLV", 3),
     ("mag_start_seconds", "MCONF", 1),
     ("acc_bias", "XA", 3),
+    ("rest_acc_last", "ALAST", 3),
+    ("inverse_filter_norm2", "INVM2", 1),
 )
 
 
@@ -423,6 +425,7 @@ class AttitudeEstimator(Estimator):
         # later than the first row is turned back to the sensor axes of the first row, which q is for
         s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyr, dts, ka, acc[ka]))
         s[k.RESTA : k.RESTA + 3] = acc[ka]
+        s[k.ALAST : k.ALAST + 3] = acc[ka]
         s[k.MOLD] = -1.0
         cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3 + [p.acc_bias_sigma_init**2] * 3)
         state = {"q": q.copy(), "covariance": cov}

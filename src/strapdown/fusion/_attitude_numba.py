@@ -49,19 +49,19 @@ MAGN = 108  # 1: undisturbed heading updates so far
 GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
 MCONF = 120  # 1: seconds the first field has been consistent (< 0: it is the reference)
-ALIN = 113  # 1: the horizontal rate² of the low-passed linear acceleration, times dt, summed over the block
-RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I
+ALIN = 113  # 1: seconds of accelerometer samples summed into ARES in the current block
+RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I (block rate)
 RLV = 117  # 3: its rate
 XA = 121  # 3: accelerometer bias, sensor axes, m/s² (Kalman states 6-8)
 ALAST = 124  # 3: the last accelerometer sample (rest detection holds it through missing rows)
-INVM2 = 127  # 1: 1/|filtered vector|² at the last block update (0: none yet)
-SIZE = 128
+ARES = 127  # 3: the accelerometer's departure from the filtered vector, in I, times dt, summed over the block
+SIZE = 130
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
 NX = 9  # Kalman states: gyro bias (3), gyro scale-factor errors (3), accelerometer bias (3)
-N_SUMS = 27  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag,
-# linear acceleration²
+N_SUMS = 30  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag,
+# the accelerometer's seconds and departure from the filtered vector (26-29)
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -177,7 +177,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
     sums[26] = s[ALIN]
-    qx_, qy_, qz_, qvx, qvy, qvz = s[RLP], s[RLP + 1], s[RLP + 2], s[RLV], s[RLV + 1], s[RLV + 2]
+    sums[27], sums[28], sums[29] = s[ARES], s[ARES + 1], s[ARES + 2]
     sums[25] = s[NMAG]
     tb = s[TB]
     sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
@@ -210,10 +210,6 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
     bax, bay, baz = x[6], x[7], x[8]
     start = 0  # first sample of the current block in this chunk
-    inv_m2 = s[INVM2]
-    if inv_m2 == 0.0:
-        m2 = mx * mx + my * my + mz * mz
-        inv_m2 = 1.0 / m2 if m2 > 0.0 else 0.0
     n = gyr.shape[0]
     for k in range(n):
         dt = dts[k]
@@ -272,18 +268,11 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 vz = p10 * d + p11 * vz
             # the linear acceleration the filter is averaging out (the sample's departure from the filtered
             # vector), whose residual after the low-pass moves the correction as a bias error would
-            if a_init < 0.0:
-                d = qx_ - (ix - mx)
-                qx_ = ix - mx + p00 * d + p01 * qvx
-                qvx = p10 * d + p11 * qvx
-                d = qy_ - (iy - my)
-                qy_ = iy - my + p00 * d + p01 * qvy
-                qvy = p10 * d + p11 * qvy
-                d = qz_ - (iz - mz)
-                qz_ = iz - mz + p00 * d + p01 * qvz
-                qvz = p10 * d + p11 * qvz
-                vm = (qvx * mx + qvy * my + qvz * mz) ** 2 * inv_m2  # the vertical part, 1/|m|² per block
-                sums[26] += (qvx * qvx + qvy * qvy + qvz * qvz - vm) * f_dt
+            if a_init < 0.0:  # low-passed at the block update (its cutoff is far below the block rate)
+                sums[26] += f_dt
+                sums[27] += (ix - mx) * f_dt
+                sums[28] += (iy - my) * f_dt
+                sums[29] += (iz - mz) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -340,8 +329,6 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
             bax, bay, baz = x[6], x[7], x[8]
             at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
-            m2 = mx * mx + my * my + mz * mz
-            inv_m2 = 1.0 / m2 if m2 > 0.0 else 0.0
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
@@ -360,7 +347,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[ACC : ACC + 24] = sums[:24]
     s[W2] = sums[24]
     s[ALIN] = sums[26]
-    s[RLP], s[RLP + 1], s[RLP + 2], s[RLV], s[RLV + 1], s[RLV + 2] = qx_, qy_, qz_, qvx, qvy, qvz
+    s[ARES], s[ARES + 1], s[ARES + 2] = sums[27], sums[28], sums[29]
     s[NMAG] = sums[25]
     s[TB] = tb
     s[EXS], s[EXS + 1], s[EXS + 2] = sw, s1, s2
@@ -370,7 +357,6 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[RESTV] = rs[7]
     s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
-    s[INVM2] = inv_m2
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
 
 
@@ -568,8 +554,21 @@ def _block(
     w2 = w2_sum / T
     # Linear acceleration a moves the filtered vector by LP[a]/g, whose horizontal rate the regression would
     # read as a bias error; correlated over about tau_acc, it is a noise of density² mean(|d LP[a]/dt|²) tau/g²
+    # The departure a - LP[a], passed through the same low-pass, estimates LP[a]; its mean rate over the block
+    # is its change over T (the block mean held, lowpass2); horizontal: less its part along the filtered vector.
     g2 = s[AFO] ** 2 + s[AFO + 1] ** 2 + s[AFO + 2] ** 2
-    r_acc = acc_factor * accu[26] / T * tau_acc / g2 if g2 > 0.0 else 0.0
+    r_acc = 0.0
+    if accu[26] > 0.0 and g2 > 0.0:
+        ra = np.empty(3)
+        for i in range(3):
+            v = accu[27 + i] / accu[26]
+            d = s[RLP + i] - v
+            y = v + p00 * d + p01 * s[RLV + i]
+            s[RLV + i] = p10 * d + p11 * s[RLV + i]
+            ra[i] = (y - s[RLP + i]) / T
+            s[RLP + i] = y
+        along = ra[0] * s[AFO] + ra[1] * s[AFO + 1] + ra[2] * s[AFO + 2]
+        r_acc = acc_factor * (ra[0] ** 2 + ra[1] ** 2 + ra[2] ** 2 - along * along / g2) * tau_acc / g2
     rm = (r_motion + kappa2 * w2 + r_acc) / T
     for j in range(3):
         H[0, j] = lp[j]

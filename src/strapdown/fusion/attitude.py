@@ -305,13 +305,13 @@ _LAYOUT = (
     ("mag_updates", "MAGN", 1),
     ("gyro_previous", "GPREV", 3),
     ("nominal_interval", "NOMDT", 1),
-    ("linear_acc_sum", "ALIN", 1),
+    ("linear_acc_seconds", "ALIN", 1),
     ("linear_acc_filter", "RLP", 3),
     ("linear_acc_filter_rate", "RLV", 3),
     ("mag_start_seconds", "MCONF", 1),
     ("acc_bias", "XA", 3),
     ("rest_acc_last", "ALAST", 3),
-    ("inverse_filter_norm2", "INVM2", 1),
+    ("linear_acc_block_sum", "ARES", 3),
 )
 
 

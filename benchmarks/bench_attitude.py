@@ -94,10 +94,19 @@ def accuracy(trials) -> dict:
         means = {m: runs[n].mean(m) for m in METRICS}
         out[n]["mean"] = means
         print(f"  {n:18} {means['total']:6.3f} / {means['heading']:6.3f} / {means['inclination']:6.3f}")
-    goals = [("ours 9D", "total", 2.2), ("ours 6D", "inclination", 0.70), ("ours offline 9D", "total", 1.9)]
+    # issue 13: no figure worse than at the start of the round (9D 1.942, 6D 0.644, offline 9D 1.668, offline
+    # inclination 0.585, all measured in this environment), and offline inclination below offline VQF's
+    goals = [
+        ("ours 9D", "total", 1.942),
+        ("ours 6D", "inclination", 0.644),
+        ("ours offline 9D", "total", 1.668),
+        ("ours offline 9D", "inclination", 0.585),
+    ]
+    if "VQF offline 9D" in out:
+        goals.append(("ours offline 9D", "inclination", out["VQF offline 9D"]["mean"]["inclination"]))
     for n, m, goal in goals:
         v = out[n]["mean"][m]
-        print(f"  issue 7 goal: {n} mean {m} {v:.3f} <= {goal}: {'met' if v <= goal else 'MISSED'}")
+        print(f"  issue 13 goal: {n} mean {m} {v:.3f} <= {goal:.3f}: {'met' if v <= goal else 'MISSED'}")
     return out
 
 

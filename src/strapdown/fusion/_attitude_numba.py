@@ -15,7 +15,7 @@ import numpy as np
 from ._base import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
 from ._base import FLAG_BIAS_AT_LIMIT, FLAG_REST
 from ._base import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
-from ._kernels_numba import gap_step, lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_rate, lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -219,14 +219,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         wz = gyr[k, 2]
         # 1. gyro frame with the bias and scale factor of the last block update; over an interval that holds
         # missing samples, the rate interpolated across the gap (gap_step)
-        ox, oy, oz = wx, wy, wz
-        if dt > 0.0:
-            wg, nominal = gap_step(dt, nominal)
-            if wg > 0.0:
-                ox += wg * (gpx - wx)
-                oy += wg * (gpy - wy)
-                oz += wg * (gpz - wz)
-            gpx, gpy, gpz = wx, wy, wz
+        ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
         ux = ox - bx - sx * ox
         uy = oy - by - sy * oy
         uz = oz - bz - sz * oz

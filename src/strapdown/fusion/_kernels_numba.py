@@ -151,3 +151,15 @@ def gap_step(h, nominal):
     else:
         nominal = h
     return w, nominal
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def gap_rate(h, nominal, wx, wy, wz, px, py, pz):
+    """The rate to apply over an interval of h s (gap_step), the nominal interval and previous sample after it.
+
+    Returns (rate x, y, z, nominal, previous x, y, z); an interval of 0 (a first sample) changes nothing.
+    """
+    if h <= 0.0:
+        return wx, wy, wz, nominal, px, py, pz
+    w, nominal = gap_step(h, nominal)
+    return wx + w * (px - wx), wy + w * (py - wy), wz + w * (pz - wz), nominal, wx, wy, wz

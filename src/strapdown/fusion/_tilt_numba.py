@@ -7,7 +7,7 @@ import math
 import numba as nb
 
 from ._base import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
-from ._kernels_numba import gap_step, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_rate, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
 
 # state vector layout (one float64 array, so that get/set and chunking are trivial)
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -100,14 +100,7 @@ def run(
         az = up[k, 2]
         # 1. gyro frame: the bias-corrected rate, exact step; over an interval that holds missing samples, the
         # rate interpolated across the gap (gap_step in _kernels_numba.py)
-        ox, oy, oz = wx, wy, wz
-        if dt > 0.0:
-            wg, nominal = gap_step(dt, nominal)
-            if wg > 0.0:
-                ox += wg * (gpx - wx)
-                oy += wg * (gpy - wy)
-                oz += wg * (gpz - wz)
-            gpx, gpy, gpz = wx, wy, wz
+        ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
         gw, gx, gy, gz = right_step(gw, gx, gy, gz, (ox - b0) * dt, (oy - b1) * dt, (oz - b2) * dt)
         # 4. (of sample k-1) bias in motion, the patent's drift loop: in steady state the correction turns at the
         # rate of the bias error, so its last increment q_c ⊗ q_c,previous* (horizontal in the reference frame),

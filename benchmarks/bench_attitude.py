@@ -39,7 +39,7 @@ import numpy as np
 import strapdown
 from _timing import best_time
 from strapdown.evaluate import evaluate
-from strapdown.fusion import AttitudeParams, attitude, attitude_offline
+from strapdown.fusion import AttitudeParams, TiltParams, attitude, attitude_offline
 
 BROAD = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "broad"
 METRICS = ("total", "heading", "inclination")
@@ -185,6 +185,7 @@ LOGO_GRIDS = {
     "bias_noise_acc_factor": ([0.0, 0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
     "acc_bias_sigma_init": ([0.0, 0.01, 0.03], "6D", "inclination"),
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
+    "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
 }
 
 
@@ -208,6 +209,8 @@ def leave_one_group_out(trials) -> dict:
                     trials,
                     heading_offset=False,
                 )
+            elif mode == "tilt":
+                ev = evaluate("tilt", trials, params={name.split()[-1]: v})
             else:
                 ev = evaluate("attitude", trials, params={name: v}, mag=mode == "9D")
             per[v] = np.array([r.get(metric) for r in ev.trials])
@@ -218,7 +221,7 @@ def leave_one_group_out(trials) -> dict:
             pick = min(values, key=lambda v: per[v][~out_g].mean())
             chosen[g] = pick
             held[out_g] = per[pick][out_g]
-        default = getattr(AttitudeParams(), name)
+        default = getattr(TiltParams() if mode == "tilt" else AttitudeParams(), name.split()[-1])
         best = min(values, key=lambda v: per[v].mean())
         grid = ", ".join(f"{v:g}: {per[v].mean():.3f}" for v in values)
         print(f"  {name} ({mode} {metric}); in-sample means {grid}")

@@ -7,7 +7,7 @@ import math
 import numba as nb
 
 from ._base import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
-from ._kernels_numba import gap_rate, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_rate, lowpass2, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
 
 # state vector layout (one float64 array, so that get/set and chunking are trivial)
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -15,8 +15,8 @@ QC = 4  # 4: tilt correction, I -> reference (yaw-free; its k part is 0)
 QCP = 8  # 4: the correction one sample earlier (for the drift loop's pending update)
 Q = 12  # 4: the estimate q_c ⊗ q_g of the last sample
 BIAS = 16  # 3: gyro bias estimate, sensor axes, rad/s
-LP1 = 19  # 3: first low-pass stage of the tilt-sensor vector in I
-LP2 = 22  # 3: second stage
+LP1 = 19  # 3: the low-pass filter's rate (lowpass2) for the tilt-sensor vector in I
+LP2 = 22  # 3: its output
 GLP = 25  # 3: low-passed gyro (rest detection), sensor axes
 ALP = 28  # 3: low-passed tilt-sensor vector (rest detection), sensor axes
 REST = 31  # 1: seconds at rest so far
@@ -82,11 +82,11 @@ def run(
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     rest_mean_max = REST_MEAN_FACTOR * bias_limit
     last_dt = -1.0
-    a = r = f = keep = 0.0
+    p00 = p01 = p10 = p11 = r = f = keep = 0.0
     for k in range(gyr.shape[0]):
         dt = dts[k]
         if dt != last_dt:  # the filter coefficients change only with the interval
-            a = 1.0 - math.exp(-dt / tau_acc)
+            p00, p01, p10, p11 = lowpass2(dt, tau_acc)
             r = 1.0 - math.exp(-dt / REST_FILTER)
             f = 1.0 - math.exp(-dt / tau_rest_bias)
             keep = math.exp(-dt / PRIOR_TIME)
@@ -116,16 +116,20 @@ def run(
             b1 -= by * inv_tau_bias
             b2 -= bz * inv_tau_bias
         pw, p1, p2 = cw, c1, c2
-        # 2. the tilt sensor in the almost-inertial frame, low-passed over tau_acc (two first-order stages)
+        # 2. the tilt sensor in the almost-inertial frame, low-passed over tau_acc (second-order Butterworth,
+        # stepped exactly over the interval: lowpass2)
         a2 = ax * ax + ay * ay + az * az
         if a2 > 0.0 and (not gated or abs(math.sqrt(a2) - gravity) <= acc_gate):
             ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
-            l0 += a * (ix - l0)
-            l1 += a * (iy - l1)
-            l2 += a * (iz - l2)
-            m0 += a * (l0 - m0)
-            m1 += a * (l1 - m1)
-            m2 += a * (l2 - m2)
+            d = m0 - ix
+            m0 = ix + p00 * d + p01 * l0
+            l0 = p10 * d + p11 * l0
+            d = m1 - iy
+            m1 = iy + p00 * d + p01 * l1
+            l1 = p10 * d + p11 * l1
+            d = m2 - iz
+            m2 = iz + p00 * d + p01 * l2
+            l2 = p10 * d + p11 * l2
         else:
             flag |= FLAG_ACC_REJECTED
         # 3. the correction q_c is the tilt quaternion that turns the filtered vector vertical (math.md §5.5): a

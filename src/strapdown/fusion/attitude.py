@@ -268,7 +268,7 @@ class AttitudeParams:
                 1.0 / self.update_rate,
                 self.bias_noise_acc_factor**2,
                 self.mag_start_time,
-                self.acc_bias_noise**2,
+                self.acc_bias_noise**2 if self.acc_bias_sigma_init > 0 else 0.0,  # off: the states stay at 0
             ]
         )
 

@@ -2,6 +2,10 @@
 
 The state is one float64 vector ``s`` (offsets below, named in attitude.py) plus the 6x6 covariance ``P`` of the
 gyro bias and scale-factor errors; both are updated in place, so any chunking gives the same result.
+
+The kernels allow fused multiply-adds (``fastmath={"contract"}``) and nothing else of fastmath: each is one
+correctly rounded operation, nothing is reassociated, so any chunking still gives bit-identical results; it makes
+the per-sample recursion about a tenth faster.
 """
 
 from __future__ import annotations
@@ -147,7 +151,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
             P[c, i] = v
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
 
@@ -353,7 +357,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2):
     """Rest detection over samples j0..j1-1 (module notes, step 4), and their bias, sigma and rest flag.
 
@@ -401,7 +405,7 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1,
     rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12] = rest, rv, ax, ay, az, rr, last_dt
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
     """Add samples j0..j1-1 to the block sums, time-weighted.
 
@@ -465,7 +469,7 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
     sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
     """9D: turn the 6D attitudes of samples j0..j1-1 by the heading offset, q = q_z(delta) ⊗ q_6D."""
     if not use_mag:
@@ -482,7 +486,7 @@ def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
             flags[j] |= FLAG_MAG_DISTURBED
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _block(
     s, P, x, accu, T, ex_sum, ey_sum, at_rest, starting, rgx, rgy, rgz, rest_var, use_mag, p, H, z, R, PHt, K, tmp, work
 ):
@@ -667,7 +671,7 @@ def _block(
         kalman(x, P, H, z, R, 1, PHt, K, tmp)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def smooth_directions(v, w, dts, tau):
     """Zero-phase weighted local-linear smoothing of direction vectors (rows of v), time constant tau.
 

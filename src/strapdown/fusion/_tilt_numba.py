@@ -1,4 +1,9 @@
-"""Numba kernel of :mod:`strapdown.fusion.tilt` (private)."""
+"""Numba kernel of :mod:`strapdown.fusion.tilt` (private).
+
+The kernels allow fused multiply-adds (``fastmath={"contract"}``) and nothing else of fastmath: each is one
+correctly rounded operation, nothing is reassociated, so any chunking still gives bit-identical results; it makes
+the per-sample recursion about a tenth faster.
+"""
 
 from __future__ import annotations
 
@@ -31,7 +36,7 @@ PRIOR_TIME = 36000.0  # s: the bias prior's pull towards zero (a Gauss-Markov co
 REST_FILTER = 0.5  # s: time constant of the rest detector's low-pass filters
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def run(
     gyr,
     up,

@@ -25,17 +25,17 @@ How it works
    passed through the same low-pass, estimates LP[a] (for the frequencies above the cutoff that move it; slower
    ones are indistinguishable from gravity anyway), and its rate, correlated over about tau_acc, adds
    mean(|rate|²) tau_acc / g² (times the factor²) to the measurement's noise density².  In simulation, a body
-   accelerating at 2 m/s² learns a wrong bias without it (inclination 2.5° instead of 2.2°, 1.2° with the
-   bias held at its true value: tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
+   accelerating at 2 m/s² learns a wrong bias without it (its inclination error is 0.88 of that without the
+   term: tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
    on BROAD (benchmarks/bench_attitude.py), where larger values cost the bias learning more than they save.
    An accelerometer bias b_a leaves LP[R b_a] in the filtered vector, which turns with the body and so also
    moves the correction like a gyro bias: a consumer accelerometer's 20 mg, uncorrected, makes the regression
-   learn a wrong gyro bias (simulated inclination 1.34° against 1.02° with no bias learning at all).  With
+   learn a wrong gyro bias (benchmarks/bench_testbed.py: consumer IMU 1.57° 6D against VQF's 1.27°).  With
    ``acc_bias_sigma_init`` > 0 three more states model it: over a block the correction turns by
    (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g (R_i the rows of R, ΔLP their low-passed change), and the estimate is
-   subtracted from the accelerometer (simulated: 0.78°).  It is off by default: on BROAD's hand-held motion it
-   costs (6D 0.64° -> 0.67° at 0.03 m/s²), since linear accelerations that turn with the body (a lever arm)
-   look the same to it.
+   subtracted from the accelerometer (test-bed: 1.02°; tests/fusion/test_attitude.py).  It is off by default:
+   on BROAD's hand-held motion it costs (6D 0.64° -> 0.67° at 0.03 m/s²), since linear accelerations that turn
+   with the body (a lever arm) look the same to it.
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
    mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
    mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that

@@ -25,8 +25,8 @@ How it works
    passed through the same low-pass, estimates LP[a] (for the frequencies above the cutoff that move it; slower
    ones are indistinguishable from gravity anyway), and its rate, correlated over about tau_acc, adds
    mean(|rate|²) tau_acc / g² (times the factor²) to the measurement's noise density².  In simulation, a body
-   accelerating at 2 m/s² learns a wrong bias without it (its inclination error is 0.88 of that without the
-   term: tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
+   accelerating at 2 m/s² learns a wrong bias without it (with it, the inclination error is 0.88 of that without:
+   tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
    on BROAD (benchmarks/bench_attitude.py), where larger values cost the bias learning more than they save.
    An accelerometer bias b_a leaves LP[R b_a] in the filtered vector, which turns with the body and so also
    moves the correction like a gyro bias: a consumer accelerometer's 20 mg, uncorrected, makes the regression

@@ -464,7 +464,7 @@ def replace_clock(imu):
 def test_dropped_rows_and_missing_samples_cost_little(moving_consumer):
     # 10 % of the rows lost (their true times given) or 10 % of the accelerometer and magnetometer rows NaN:
     # the inputs lose a tenth of their samples, so the errors may move by a little, not by a factor (before the
-    # low-pass stepped exactly over any interval, dropping rows multiplied the errors 2-5 times on BROAD)
+    # low-pass stepped exactly over any interval, dropping rows multiplied the errors 4-7 times on BROAD)
     d = moving_consumer
     t = d.t[1:]
     truth = d.q_true[1:]
@@ -511,7 +511,7 @@ def test_the_rate_is_interpolated_across_a_gap():
 @pytest.mark.skipif(not BROAD.is_dir(), reason="BROAD data not present (../shared/data/broad)")
 def test_broad_with_dropped_rows_and_missing_samples():
     # issue 13: 10 % of the rows dropped at random (true times given), or 10 % of the accelerometer and of the
-    # magnetometer rows NaN: every mean within 10 % of the regular record's (before: 9D ×2.6-4, 6D ×4)
+    # magnetometer rows NaN: every mean within 10 % of the regular record's (before: 9D ×5 and ×2, 6D ×7 and ×3)
     from strapdown.broad import load_trials
     from strapdown.metrics import rmse_errors
 

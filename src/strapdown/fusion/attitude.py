@@ -84,7 +84,7 @@ cost only the information they take away:
   second-order Butterworth filter, stepped exactly over each interval with the input held (``lowpass2`` in
   _kernels_numba.py).  Its states are the output and its rate, which mean the same whatever the interval; a
   direct-form filter's states belong to the coefficients that made them, and when a dropped row changed those
-  for one step the output jumped (10 % of BROAD's rows dropped multiplied the 9D error by 3-5).  No restart is
+  for one step the output jumped (10 % of BROAD's rows dropped multiplied the 9D error by 5, 6D by 7).  No restart is
   needed after a gap.  The regressor is the filter output's mean over the block, as the measurement is the
   correction's mean rate over it (an exact integral of the filter's ODE).
 * An interval longer than the nominal one (the shortest recent interval) holds lost gyro samples: the rate over

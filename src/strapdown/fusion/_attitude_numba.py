@@ -19,7 +19,7 @@ import numpy as np
 from ._base import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
 from ._base import FLAG_BIAS_AT_LIMIT, FLAG_REST
 from ._base import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
-from ._kernels_numba import gap_rate, lowpass2, right_step, rotate, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, tilt_to_z, unit_rotvec
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -254,15 +254,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             else:
                 # exact step of the low-pass over the interval since the last sample (lowpass2): no restart is
                 # needed after a gap or a change of rate, and jitter changes nothing but the interval
-                d = mx - ix
-                mx = ix + p00 * d + p01 * vx
-                vx = p10 * d + p11 * vx
-                d = my - iy
-                my = iy + p00 * d + p01 * vy
-                vy = p10 * d + p11 * vy
-                d = mz - iz
-                mz = iz + p00 * d + p01 * vz
-                vz = p10 * d + p11 * vz
+                mx, vx = lowpass2_step(mx, vx, ix, p00, p01, p10, p11)
+                my, vy = lowpass2_step(my, vy, iy, p00, p01, p10, p11)
+                mz, vz = lowpass2_step(mz, vz, iz, p00, p01, p10, p11)
             # the linear acceleration the filter is averaging out (the sample's departure from the filtered
             # vector), whose residual after the low-pass moves the correction as a bias error would
             if a_init < 0.0:  # low-passed at the block update (its cutoff is far below the block rate)
@@ -536,9 +530,7 @@ def _block(
         # the block mean held over the block: exact for the continuous filter (lowpass2)
         y0 = s[j]
         r0 = s[j + 1]
-        d = y0 - v
-        y = v + p00 * d + p01 * r0
-        r = p10 * d + p11 * r0
+        y, r = lowpass2_step(y0, r0, v, p00, p01, p10, p11)
         s[j] = y
         s[j + 1] = r
         if i < 6:  # the rows of R: their low-passed change over the block (accelerometer bias)
@@ -559,9 +551,7 @@ def _block(
         ra = np.empty(3)
         for i in range(3):
             v = accu[27 + i] / accu[26]
-            d = s[RLP + i] - v
-            y = v + p00 * d + p01 * s[RLV + i]
-            s[RLV + i] = p10 * d + p11 * s[RLV + i]
+            y, s[RLV + i] = lowpass2_step(s[RLP + i], s[RLV + i], v, p00, p01, p10, p11)
             ra[i] = (y - s[RLP + i]) / T
             s[RLP + i] = y
         along = ra[0] * s[AFO] + ra[1] * s[AFO + 1] + ra[2] * s[AFO + 2]

@@ -163,3 +163,10 @@ def gap_rate(h, nominal, wx, wy, wz, px, py, pz):
         return wx, wy, wz, nominal, px, py, pz
     w, nominal = gap_step(h, nominal)
     return wx + w * (px - wx), wy + w * (py - wy), wz + w * (pz - wz), nominal, wx, wy, wz
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def lowpass2_step(y, v, u, p00, p01, p10, p11):
+    """One step of the low-pass of ``lowpass2`` (its four coefficients) from output y and rate v, input u held."""
+    d = y - u
+    return u + p00 * d + p01 * v, p10 * d + p11 * v

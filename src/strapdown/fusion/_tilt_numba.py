@@ -12,7 +12,7 @@ import math
 import numba as nb
 
 from ._base import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
-from ._kernels_numba import gap_rate, lowpass2, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
 
 # state vector layout (one float64 array, so that get/set and chunking are trivial)
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -126,15 +126,9 @@ def run(
         a2 = ax * ax + ay * ay + az * az
         if a2 > 0.0 and (not gated or abs(math.sqrt(a2) - gravity) <= acc_gate):
             ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
-            d = m0 - ix
-            m0 = ix + p00 * d + p01 * l0
-            l0 = p10 * d + p11 * l0
-            d = m1 - iy
-            m1 = iy + p00 * d + p01 * l1
-            l1 = p10 * d + p11 * l1
-            d = m2 - iz
-            m2 = iz + p00 * d + p01 * l2
-            l2 = p10 * d + p11 * l2
+            m0, l0 = lowpass2_step(m0, l0, ix, p00, p01, p10, p11)
+            m1, l1 = lowpass2_step(m1, l1, iy, p00, p01, p10, p11)
+            m2, l2 = lowpass2_step(m2, l2, iz, p00, p01, p10, p11)
         else:
             flag |= FLAG_ACC_REJECTED
         # 3. the correction q_c is the tilt quaternion that turns the filtered vector vertical (math.md §5.5): a

@@ -35,6 +35,7 @@ from .tables import (
     OutputSpec,
     attitude_columns,
     column_names,
+    flag_bits,
     from_values,
     to_values,
 )
@@ -540,8 +541,11 @@ def estimate_file(
                     )
                 at_limit = None
                 if limit and e.bias is not None:
-                    # the estimators clip each axis at bias_limit: a bias there says the limit, not the gyro
+                    # Mahony-type filters clip each axis at bias_limit (a bias there says the limit, not the gyro);
+                    # the AttitudeEstimator and TiltEstimator treat it as a prior's bound and set the flag bit
                     at_limit = (np.abs(e.bias) >= limit * (1.0 - 1e-9)).any(axis=1)
+                    if e.flags is not None:
+                        at_limit |= (np.asarray(e.flags) & flag_bits()["bias_at_limit"]) != 0
                     if at_limit.any() and not warned:
                         warned = True
                         i = int(np.argmax(at_limit))
@@ -561,7 +565,8 @@ ON_GAP = ("error", "split", "restart")
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:
     axis = "xyz"[int(np.argmax(np.abs(bias)))]
     return (
-        f"warning: the gyro bias estimate reached bias_limit = {np.degrees(limit):.3g} deg/s on the {axis} axis at "
+        f"warning: the gyro bias estimate reached bias_limit = {np.degrees(limit):.3g} deg/s (clipped there, or past "
+        f"the bound of the estimator's prior) on the {axis} axis at "
         f"t = {t:.6g} s ({where}); the bias_at_limit column says where.  A bias that large is beyond what the "
         "estimator assumes of the sensor: check the gyro's unit (--gyro-unit), or raise -p bias_limit_deg_s=..."
     )

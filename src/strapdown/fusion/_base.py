@@ -144,6 +144,9 @@ class Estimator:
     # True: NaN rows of acc and mag mean "no sample" (sensors at different rates); such an estimator must take its
     # heading from the first field it gets, as 9D may start before the magnetometer's first sample
     missing_samples = False
+    # the layout of ``state``: the shape of every entry (() for a number), and the entries that are attitudes
+    _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
+    _unit_keys: tuple[str, ...] = ("q",)
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -173,14 +176,19 @@ class Estimator:
         if not isinstance(value, dict) or value.get("_kind") != kind:
             raise ValueError(f"state must be a dict taken from the .state of a {kind}")
         value = dict(value)
-        _v.quaternions(value.get("q"), "state['q']", dtype=np.float64)  # finite, non-zero, shape (4,)
-        for k, v in value.items():
-            if isinstance(v, np.ndarray) and v.dtype.kind == "f" and not np.isfinite(v).all():
-                raise ValueError(f"state[{k!r}] holds NaN or infinities")
         del value["_kind"]
-        self._t_last = value.pop("_t_last", None)
-        self._use_mag = value.pop("_use_mag", None)
-        self._state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in value.items()}
+        t_last = value.pop("_t_last", None)
+        use_mag = value.pop("_use_mag", None)
+        if t_last is not None and not (isinstance(t_last, Real) and np.isfinite(t_last)):
+            raise ValueError(f"state['_t_last'] must be None or a finite time in seconds, got {t_last!r}")
+        if not isinstance(use_mag, bool | np.bool_):
+            raise ValueError(f"state['_use_mag'] must be True or False, got {use_mag!r}")
+        # The kernels index these arrays without bounds checks: a short or mis-shaped array would make them read
+        # or write outside it, so every entry is checked against the class's layout before it gets there.
+        state = _checked_state(value, dict(self._state_layout), self._unit_keys)
+        self._t_last = None if t_last is None else float(t_last)
+        self._use_mag = bool(use_mag)
+        self._state = state
 
     @property
     def attitude(self) -> np.ndarray | None:
@@ -304,6 +312,47 @@ class Estimator:
 
     def _run(self, gyr, acc, mag, dts, extra_in) -> Estimate:
         raise NotImplementedError
+
+
+# How far from unit norm a restored attitude may be: float32 storage and text round trips stay far inside it, a
+# corrupted or hand-made quaternion does not.  The kernels assume unit attitudes (a norm of 10 grows to 1e205).
+_UNIT_TOL = 1e-5
+
+
+def _checked_state(value: dict, shapes: dict, unit_keys: tuple) -> dict:
+    """A validated copy of a state dict, or ValueError naming the entry.
+
+    Exactly the keys of ``shapes``, float64 arrays of those shapes, finite, and unit attitudes under ``unit_keys``
+    (renormalised unless within rounding of 1).
+    """
+    missing = [k for k in shapes if k not in value]
+    if missing:
+        raise ValueError(f"state has no {', '.join(repr(k) for k in missing)}; take the state from .state")
+    unknown = [k for k in value if k not in shapes]
+    if unknown:
+        raise ValueError(f"state has unknown entries {', '.join(repr(k) for k in unknown)}")
+    out = {}
+    for key, shape in shapes.items():
+        name = f"state[{key!r}]"
+        v = value[key]
+        if v is None or isinstance(v, str | bytes | dict):
+            raise ValueError(f"{name} must be {_shape_text(shape)}, got {type(v).__name__}")
+        arr = _v.as_float_array(v, name, dtype=np.float64)
+        if arr.shape != shape:
+            raise ValueError(f"{name} must be {_shape_text(shape)}, got shape {arr.shape}")
+        _v.check_finite(arr, name)
+        if key in unit_keys:
+            norm = float(np.sqrt(np.sum(arr * arr)))
+            if not abs(norm - 1.0) <= _UNIT_TOL:
+                raise ValueError(f"{name} must be a unit quaternion, got norm {norm:.6g}")
+            if abs(norm - 1.0) > 1e-12:  # beyond the rounding a kernel leaves: restore bit for bit otherwise
+                arr = arr / norm
+        out[key] = float(arr) if shape == () else arr.copy()
+    return out
+
+
+def _shape_text(shape: tuple) -> str:
+    return "a number" if shape == () else f"an array of shape {shape}"
 
 
 def params_of(cls, params, owner: str):

@@ -252,6 +252,9 @@ class AttitudeEstimator(Estimator):
     estimates_bias = True
     reports_flags = True
     missing_samples = True
+    # state layout, checked when a state is restored (fusion/_base.py): the kernel indexes it without bounds checks
+    _state_layout = (("q", (4,)), ("covariance", (6, 6)), *((name, (size,)) for name, _, size in _LAYOUT))
+    _unit_keys = ("q", "q_gyro", "q_correction")
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)

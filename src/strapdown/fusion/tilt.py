@@ -313,6 +313,17 @@ class TiltEstimator(Estimator):
     natural_frame = "ENU"
     estimates_bias = True
     reports_flags = True
+    _state_layout = (
+        ("q", (4,)),
+        ("q_gyro", (4,)),
+        ("q_correction", (4,)),
+        ("q_correction_previous", (4,)),
+        ("bias", (3,)),
+        ("acc_filter", (2, 3)),
+        ("rest_filter", (6,)),
+        ("rest_seconds", ()),
+    )
+    _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)

@@ -100,6 +100,10 @@ def _coning_table(method: str) -> tuple[np.ndarray, float]:
     return k, 0.0
 
 
+# The largest rotation of one step, rad: beyond it its angle is not known to 1 mrad in float64 (1e-3 / eps, the
+# limit quaternion.power uses), and the arithmetic of several methods overflows soon after.
+MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps
+
 _CONING = ["coning1-prev", "coning2", "coning3", "coning4", "coning5", "coning6", "coning3-poly", "coning4-poly"]
 METHODS = (*_STEP_KINDS, "rk4", *_CONING, *_BASELINES)
 
@@ -528,20 +532,55 @@ class AttitudeIntegrator:
             saved = st.copy()
             raw = self._run_step_kind(g, h, None if out is None else out[:, :n])
             # A NaN or infinite sample poisons every later attitude of the product chain (and of the scan's
-            # block offsets), so a finite last attitude proves the input finite without a pass over it.
-            if n and not np.isfinite(raw[:, -1]).all():
+            # block offsets), so a finite last attitude proves the input finite without a pass over it; a huge
+            # step that the normalisation turned into a zero quaternion (first-order at 1e200 rad/s) shows as a
+            # last attitude off the unit sphere.
+            if n and not self._plausible(raw[:, -1]):
                 self._state = saved
                 _v.check_finite(g[0] if st.extra["single"] else g, "gyro")
+                self._check_steps(g, h)
                 raise ValueError(
                     "gyro: the step rotations overflow (|gyro| dt is too large to represent); check the units "
                     "and the time step"
                 )
         else:
+            self._check_steps(g, h)
             raw = self._run_model(g, h, ends, final=False)
         st.steps_in += n
         st.t_end = last
         self._count(raw)
         return raw
+
+    def _plausible(self, q_last: np.ndarray) -> bool:
+        """Finite, and unit to 1e-6 where the method keeps unit norm (normalised every step, or norm-preserving)."""
+        if not np.isfinite(q_last).all():
+            return False
+        unit = self.method in ("exact", "cayley") or (self.normalize != "none" and self.normalize_every == 1)
+        return not unit or bool((np.abs(np.einsum("...i,...i->...", q_last, q_last) - 1) <= 1e-6).all())
+
+    def _check_steps(self, g: np.ndarray, h: np.ndarray) -> None:
+        """Raise unless every step rotation |ω| h is at most MAX_STEP_ANGLE, naming the first sample beyond it.
+
+        Past it float64 no longer holds the angle of a step to 1 mrad, and the RK4, coning and baseline
+        arithmetic overflows into NaN (1e200 rad/s, or dt = 1e300).  One pass over the samples, which these
+        methods' finiteness check makes anyway.
+        """
+        with np.errstate(over="ignore", invalid="ignore"):
+            peak = np.max(np.abs(g), axis=(0, 2)) if g.size else np.zeros(0)
+            step = peak * self.scale * (h if h.shape[0] == peak.shape[0] else h[0])
+        bad = ~(step <= MAX_STEP_ANGLE)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            st = self._state
+            what = (
+                "increment"
+                if self.input == "increment"
+                else f"rate times its step ({float(h[min(k, h.shape[0] - 1)]):.3g} s)"
+            )
+            raise ValueError(
+                f"gyro sample {st.steps_in + k} turns by {float(step[k]):.3g} rad in one step ({what}), beyond "
+                f"{MAX_STEP_ANGLE:.3g} rad where float64 cannot hold a step's angle; check the units and the time step"
+            )
 
     def _finish_raw(self) -> np.ndarray:
         st = self._state

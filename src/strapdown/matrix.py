@@ -39,7 +39,7 @@ def as_matrix(q, *, check: bool = True) -> np.ndarray:
            [ 1.,  0.,  0.],
            [ 0.,  0.,  1.]])
     """
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     shape = q.shape[:-1]
     rows = np.ascontiguousarray(q.reshape(-1, 4))
     out = np.empty((rows.shape[0], 3, 3), dtype=q.dtype)

@@ -1,0 +1,143 @@
+"""Finite input never gives a silent NaN, infinity or wrong finite number (issue 14, "silent NaN").
+
+Each case is a reproduction from the issue: either the function now computes it in a scaled, overflow-free way
+(the expected values are closed forms or scale invariance), or it refuses with a ValueError naming the argument
+and the accepted range.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import strapdown as sd
+from strapdown import quaternion as quat
+from strapdown.average import chordal_distance
+from strapdown.fusion import tilt_from_up, tilt_rates
+
+
+def unit(q):
+    q = np.asarray(q, dtype=np.float64)
+    return q / np.linalg.norm(q)
+
+
+Q = unit([0.8, -0.3, 0.4, 0.2])
+
+
+# --- norms, products, exponentials -------------------------------------------------------------------------------
+def test_norm_of_huge_and_tiny_quaternions_is_exact():
+    np.testing.assert_array_equal(
+        quat.norm([[1e200, 0, 0, 0], [1e-200, 0, 0, 0], [5e-324, 0, 0, 0]]), [1e200, 1e-200, 5e-324]
+    )
+    np.testing.assert_allclose(quat.norm([3e200, 0, 4e200, 0]), 5e200, rtol=1e-15)
+    f32 = quat.norm(np.array([1e30, 0, 0, 1e30], dtype=np.float32))
+    assert f32.dtype == np.float32 and np.isclose(f32, np.sqrt(2) * 1e30, rtol=1e-6)
+
+
+def test_product_beyond_the_float_range_is_refused():
+    with pytest.raises(ValueError, match=r"p ⊗ q overflows: \|p\| = 1e\+200 and \|q\| = 1e\+200"):
+        quat.multiply([1e200, 0, 0, 0], [1e200, 0, 0, 0])
+    # a product that fits is computed, even from huge factors
+    np.testing.assert_array_equal(quat.multiply([1e200, 0, 0, 0], [1e-200, 0, 0, 0]), [1.0, 0, 0, 0])
+
+
+def test_exp_overflow_is_refused_with_the_range():
+    with pytest.raises(ValueError, match=r"q has w = 800.*w must lie in \[-708.4, 709.8\]"):
+        quat.exp([800.0, 0, 0, 0])
+    np.testing.assert_allclose(quat.exp([700.0, 0, 0, 0])[0], np.e**700, rtol=1e-13)
+
+
+def test_power_out_of_range_is_refused():
+    with pytest.raises(ValueError, match=r"t ln\|q\| = 1386.29"):
+        quat.power([2.0, 0, 0, 0], 2000)
+    # q^1e20 of a unit q: its angle is lost to rounding (it used to return a zero quaternion)
+    with pytest.raises(ValueError, match="rounding leaves the angle of the result unknown"):
+        quat.power([0.0, 1.0, 0.0, 0.0], 1e20)  # |q| = 1 exactly: only the angle is lost
+    with pytest.raises(ValueError, match=r"t ln\|q\| = -5.*underflows"):
+        quat.power(Q, 1e20)  # |q| = 1 - 1e-16 to rounding: |q|^1e20 underflows
+    np.testing.assert_allclose(quat.power([2.0, 0, 0, 0], 1000)[0], 2.0**1000, rtol=1e-12)
+
+
+def test_series_normalisation_far_from_unit_is_refused():
+    with pytest.raises(ValueError, match=r"\|q\|² = 1e\+200: the series normalisation is for \|q\|² within 0.5"):
+        quat.normalize([1e100, 0, 0, 0], "series")
+
+
+# --- rotations of any norm -----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("scale", [1e154, 1e200, 1e-200, 5e-300])
+def test_rotation_functions_do_not_depend_on_the_norm(scale):
+    v = np.array([0.3, -1.2, 2.0])
+    r = np.array(
+        [
+            [1 - 2 * (Q[2] ** 2 + Q[3] ** 2), 2 * (Q[1] * Q[2] - Q[0] * Q[3]), 2 * (Q[1] * Q[3] + Q[0] * Q[2])],
+            [2 * (Q[1] * Q[2] + Q[0] * Q[3]), 1 - 2 * (Q[1] ** 2 + Q[3] ** 2), 2 * (Q[2] * Q[3] - Q[0] * Q[1])],
+            [2 * (Q[1] * Q[3] - Q[0] * Q[2]), 2 * (Q[2] * Q[3] + Q[0] * Q[1]), 1 - 2 * (Q[1] ** 2 + Q[2] ** 2)],
+        ]
+    )
+    big = Q * scale
+    np.testing.assert_allclose(quat.rotate(big, v), r @ v, atol=1e-14)
+    np.testing.assert_allclose(sd.as_matrix(big), r, atol=1e-15)
+    np.testing.assert_allclose(sd.as_euler(big, "ZYX"), sd.as_euler(Q, "ZYX"), atol=1e-14)
+    np.testing.assert_allclose(sd.as_rotvec(big), sd.as_rotvec(Q), atol=1e-14)
+    np.testing.assert_allclose(quat.normalize(big), Q, atol=1e-15)
+    assert quat.angle_between(big, Q) < 1e-7
+
+
+def test_compressed_angles_of_scaled_quaternions():
+    # as_compressed skipped the norm check: q * 1e199 gave pitch 0 instead of -14.12 deg, 5e-324 gave -90 deg
+    angles = np.array([30.0, -14.12, 10.0])
+    q = sd.from_compressed(angles, degrees=True)
+    np.testing.assert_allclose(sd.as_compressed(q * 1e199, degrees=True), angles, atol=1e-10)
+    np.testing.assert_allclose(sd.as_compressed([5e-324, 0, 0, 0], degrees=True), [0, 0, 0], atol=0)
+
+
+def test_chordal_distance_off_the_unit_sphere_including_float32():
+    theta = 0.7
+    p = np.array([1.0, 0, 0, 0])
+    q = np.array([np.cos(theta / 2), 0, np.sin(theta / 2), 0])
+    want = 2 * np.sqrt(2) * np.sin(theta / 2)  # ‖R(p) - R(q)‖_F, closed form
+    for scale in (5e9, 1e-12, 1e200):
+        np.testing.assert_allclose(chordal_distance(p * scale, q), want, rtol=1e-12)
+    for scale in (5e9, 1e-12):
+        got = chordal_distance((p * scale).astype(np.float32), q.astype(np.float32))
+        assert got.dtype == np.float32
+        np.testing.assert_allclose(got, want, rtol=1e-6)
+
+
+def test_gibbs_vector_that_overflows_is_refused():
+    with pytest.raises(ValueError, match=r"too close to a 180° rotation \(w = 4.94e-324"):
+        sd.as_gibbs([5e-324, 1.0, 0, 0])
+
+
+def test_tilt_rates_that_overflow_are_refused():
+    with pytest.raises(ValueError, match=r"e is too close to upside down \(e0 = 4.94e-324\)"):
+        tilt_rates([5e-324, 1.0, 0, 0], [1.0, 1.0, 1.0])
+
+
+def test_tilt_from_a_huge_up_vector_is_a_unit_tilt():
+    # [1, 0, 1]: 45° about -y; the norm of [1e200, 0, 1e200] used to overflow to a tilt quaternion of norm 0.707
+    want = [np.cos(np.pi / 8), 0.0, -np.sin(np.pi / 8), 0.0]
+    np.testing.assert_allclose(tilt_from_up([1e200, 0, 1e200]), want, atol=1e-15)
+    np.testing.assert_allclose(tilt_from_up([1e-200, 0, 1e-200]), want, atol=1e-15)
+
+
+def test_from_rotvec_of_a_huge_vector_does_not_warn():
+    with warnings.catch_warnings(), np.errstate(over="raise"):
+        warnings.simplefilter("error")
+        q = sd.from_rotvec([1e78, 0, 0])
+    assert abs(np.linalg.norm(q) - 1) < 1e-15
+
+
+# --- integration ------------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("method", ["rk4", "coning2", "dcm", "first-order", "second-order", "cayley", "exact"])
+@pytest.mark.parametrize(("rate", "dt"), [(1e200, 0.01), (1.0, 1e300)])
+def test_integration_of_unrepresentable_steps_is_refused(method, rate, dt):
+    # rk4, coning2 and dcm returned NaN, first-order a zero quaternion
+    with pytest.raises(ValueError, match=r"gyro sample 0 turns by .* rad in one step"):
+        sd.integrate(np.full((10, 3), rate), dt=dt, method=method)
+
+
+def test_large_but_representable_steps_still_integrate():
+    # 1e6 rad per step is far inside the limit: the exact method gives the closed-form angle mod 4π
+    q = sd.integrate(np.array([[1e8, 0.0, 0.0]]), dt=0.01, method="exact")[-1]
+    np.testing.assert_allclose(q, [np.cos(5e5), np.sin(5e5), 0, 0], atol=1e-9)

@@ -141,3 +141,88 @@ def test_large_but_representable_steps_still_integrate():
     # 1e6 rad per step is far inside the limit: the exact method gives the closed-form angle mod 4π
     q = sd.integrate(np.array([[1e8, 0.0, 0.0]]), dt=0.01, method="exact")[-1]
     np.testing.assert_allclose(q, [np.cos(5e5), np.sin(5e5), 0, 0], atol=1e-9)
+
+
+# --- fusion filters -----------------------------------------------------------------------------------------------
+def _filters():
+    from strapdown.fusion import AttitudeEstimator, Complementary, Madgwick, Mahony, TiltEstimator
+
+    return [TiltEstimator, Mahony, Madgwick, Complementary, AttitudeEstimator]
+
+
+def _still(n=60, dtype=np.float64):
+    return np.zeros((n, 3), dtype), np.tile(np.array([0.0, 0.0, 9.81], dtype), (n, 1))
+
+
+@pytest.mark.parametrize("cls", _filters(), ids=lambda c: c.__name__)
+@pytest.mark.parametrize(
+    ("what", "match"),
+    [
+        ("gyr", r"gyr\[10\] = \[1e\+300, .* is beyond 1e\+100"),
+        ("acc", r"acc\[10\] = \[1e\+300, .* is beyond 1e\+100"),
+        ("dt", r"sample 0 lasts 1e\+300 s, beyond 1e\+09 s"),
+        ("step", r"gyr\[10\] turns by 1e\+13 rad in one sample"),
+    ],
+)
+def test_filters_refuse_samples_no_sensor_gives(cls, what, match):
+    # every filter returned NaN from a 1e300 gyro sample; Tilt and Attitude also from acc, Attitude from dt
+    g, a = _still()
+    dt = 0.01
+    if what == "gyr":
+        g[10] = 1e300
+    elif what == "acc":
+        a[10] = 1e300
+    elif what == "dt":
+        dt = 1e300
+    else:
+        g[10], dt = 1e15, 0.01
+    with pytest.raises(ValueError, match=match):
+        cls().update(g, a, dt=dt)
+
+
+@pytest.mark.parametrize("cls", _filters(), ids=lambda c: c.__name__)
+def test_filters_at_the_edge_of_the_range_stay_finite(cls):
+    for change in ("gyr", "acc", "dt"):
+        g, a = _still()
+        dt = 0.01
+        if change == "gyr":
+            g[10], dt = 1e100, 1e-95  # a huge rate over a tiny step: 1e5 rad
+        elif change == "acc":
+            a[10] = 1e100
+        else:
+            dt = 1e9
+        est = cls().update(g, a, dt=dt)
+        assert np.isfinite(est.q).all(), change
+        np.testing.assert_allclose(np.linalg.norm(est.q, axis=-1), 1, atol=1e-12)
+
+
+@pytest.mark.parametrize("cls", _filters(), ids=lambda c: c.__name__)
+def test_filters_keep_float32(cls):
+    g, a = _still(dtype=np.float32)
+    est = cls().update(g, a, dt=0.01)
+    assert est.q.dtype == np.float32
+    assert est.bias is None or est.bias.dtype == np.float32
+    whole = cls().update(g.astype(np.float64), a.astype(np.float64), dt=0.01)
+    np.testing.assert_allclose(est.q, whole.q, atol=1e-7)
+
+
+def test_a_diverging_chunk_is_reported_and_the_state_kept(monkeypatch):
+    from strapdown.fusion import Mahony
+
+    g, a = _still()
+    f = Mahony()
+    f.update(g, a, dt=0.01)
+    before = f.state
+    real = Mahony._run
+
+    def poisoned(self, *args):
+        out = real(self, *args)
+        out.q[7:] = np.nan  # as a kernel overflow would
+        return out
+
+    monkeypatch.setattr(Mahony, "_run", poisoned)
+    with pytest.raises(ValueError, match="the filter diverged at sample 7"):
+        f.update(g, a, dt=0.01)
+    after = f.state
+    np.testing.assert_array_equal(after["q"], before["q"])
+    assert after["_t_last"] == before["_t_last"]

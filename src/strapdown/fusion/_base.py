@@ -33,6 +33,12 @@ FLAG_INVERTED = 8  # within 1e-6 of upside down: the tilt quaternion chart is si
 
 GRAVITY = 9.80665
 
+# Accepted input range (docs/guide/reliability.md): beyond these the kernels' squares and products overflow into
+# NaN, and no sensor or clock comes near them.
+MAX_SAMPLE = 1e100  # largest |component| of a gyro, accelerometer or magnetometer sample, in any unit
+MAX_DT = 1e9  # s (32 years): the longest sample interval
+MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps  # rad: |gyr| dt of one sample, as in strapdown.integrate
+
 
 @dataclass
 class Estimate:
@@ -107,9 +113,23 @@ def _sensor(v, name: str, missing: bool) -> np.ndarray:
     return arr
 
 
+def _in_range(arr: np.ndarray, name: str) -> None:
+    """Raise if a sample has a component beyond MAX_SAMPLE (NaN rows, "no sample", are skipped)."""
+    with np.errstate(invalid="ignore"):
+        big = np.abs(arr).max(axis=-1, initial=0.0) > MAX_SAMPLE
+    if big.any():
+        k = int(np.flatnonzero(big)[0])
+        raise ValueError(
+            f"{name}[{k}] = {arr[k].tolist()} is beyond {MAX_SAMPLE:.0e} in magnitude: no sensor reads that; "
+            "check the units"
+        )
+
+
 def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
     a = _sensor(acc, "acc", missing)
+    _in_range(g, "gyr")
+    _in_range(a, "acc")
     if g.ndim != 2 or a.ndim != 2:
         raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
@@ -117,6 +137,7 @@ def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
     m = None
     if mag is not None:
         m = _sensor(mag, "mag", missing)
+        _in_range(m, "mag")
         if m.shape != g.shape:
             raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
@@ -259,14 +280,20 @@ class Estimator:
             One attitude per sample, and the filter's extra outputs.
         """
         g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
+        # what a diverging chunk puts back (the kernels update the state arrays in place)
+        kept = None
+        if self._state is not None:
+            kept = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self._state.items()}
+        saved = (kept, self._t_last, self._use_mag)
         if self._use_mag is not None and m is not None and not self._use_mag:
             raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
         n = g.shape[0]
         dts = self._dts(n, dt, t)
+        _check_steps(g, dts)
         extra_in = self._prepare_inputs(n, **inputs)
         if self._state is None:
             if n == 0:
-                return self._empty()
+                return float32_if(self._empty(), gyr, acc, mag)
             self._use_mag = m is not None
             if self._q0 is None:
                 q_init = self._initial(g, a, m, dts, extra_in)
@@ -277,10 +304,18 @@ class Estimator:
                 q_init = multiply(self._to_in, self._q0)
             self._state = self._new_state(q_init / np.linalg.norm(q_init), g, a, m, dts, extra_in)
         out = self._run(g, a, m, dts, extra_in)
+        if n and not np.isfinite(out.q[-1]).all():
+            # NaN propagates along the filter's chain, so the last attitude shows whether any sample diverged
+            k = int(np.flatnonzero(~np.isfinite(out.q).all(axis=-1))[0])
+            self._state, self._t_last, self._use_mag = saved
+            raise ValueError(
+                f"the filter diverged at sample {k} (gyr {g[k].tolist()}, acc {a[k].tolist()}); the state before this "
+                "chunk is kept"
+            )
         if out.q.size and self.frame != self.natural_frame:
             out.q = multiply(self._to_out, out.q, check=False)
         out.frame = self.frame
-        return out
+        return float32_if(out, gyr, acc, mag)
 
     def _empty(self) -> Estimate:
         # the same fields as a non-empty result, so that callers need no special case for an empty chunk
@@ -379,6 +414,35 @@ def params_of(cls, params, owner: str):
         if isinstance(getattr(defaults, name), Real) and not isinstance(value, Real):
             raise ValueError(f"{owner} parameter {name} must be a number, got {value!r}")
     return replace(defaults, **params)
+
+
+def float32_if(est: Estimate, *inputs) -> Estimate:
+    """``est`` with float32 arrays when every given input array is float32 (float32 in, float32 out)."""
+    given = [x for x in inputs if x is not None]
+    if not given or not all(isinstance(x, np.ndarray) and x.dtype == np.float32 for x in given):
+        return est
+    est.q = est.q.astype(np.float32)
+    if est.bias is not None:
+        est.bias = est.bias.astype(np.float32)
+    est.extra = {
+        k: (v.astype(np.float32) if isinstance(v, np.ndarray) and v.dtype == np.float64 else v)
+        for k, v in est.extra.items()
+    }
+    return est
+
+
+def _check_steps(g: np.ndarray, dts: np.ndarray) -> None:
+    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE."""
+    if not (dts <= MAX_DT).all():
+        k = int(np.flatnonzero(~(dts <= MAX_DT))[0])
+        raise ValueError(f"sample {k} lasts {dts[k]:.3g} s, beyond {MAX_DT:.0e} s; check the time unit of dt or t")
+    step = np.abs(g).max(axis=-1, initial=0.0) * dts
+    if not (step <= MAX_STEP_ANGLE).all():
+        k = int(np.flatnonzero(~(step <= MAX_STEP_ANGLE))[0])
+        raise ValueError(
+            f"gyr[{k}] turns by {step[k]:.3g} rad in one sample, beyond {MAX_STEP_ANGLE:.3g} rad where float64 "
+            "cannot hold a step's angle; check the units and the time step"
+        )
 
 
 def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarray) -> np.ndarray:

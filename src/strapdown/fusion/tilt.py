@@ -46,7 +46,7 @@ import numpy as np
 from .. import _validate as _v
 from ..euler import from_euler
 from ..quaternion import rotate
-from ._base import GRAVITY, Estimate, Estimator
+from ._base import GRAVITY, Estimate, Estimator, float32_if
 
 __all__ = [
     "TiltEstimator",
@@ -393,7 +393,8 @@ class TiltEstimator(Estimator):
                 if known.shape != acc_arr.shape:
                     raise ValueError(f"known_acc must have the shape of acc {acc_arr.shape}, got {known.shape}")
                 acc_arr = acc_arr - known
-        return super().update(gyr_arr, acc_arr, dt=dt, t=t)
+        est = super().update(gyr_arr, acc_arr, dt=dt, t=t)
+        return float32_if(est, gyr, pitch_roll if acc is None else acc)
 
     def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         a_i = rotate(q, acc[0])

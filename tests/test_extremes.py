@@ -226,3 +226,47 @@ def test_a_diverging_chunk_is_reported_and_the_state_kept(monkeypatch):
     after = f.state
     np.testing.assert_array_equal(after["q"], before["q"])
     assert after["_t_last"] == before["_t_last"]
+
+
+# --- vector observations, metrics -----------------------------------------------------------------------------------
+@pytest.mark.parametrize("solver", ["quest", "davenport"])
+@pytest.mark.parametrize("w", [1e200, 1e-200, 1.0])
+def test_wahba_covariance_scales_with_any_weight(solver, w):
+    from strapdown import wahba
+
+    b = np.array([[1.0, 0, 0], [0, 1.0, 0]])
+    # N = w [(I - x xᵀ) + (I - y yᵀ)] = w diag(1, 1, 2): P = N⁻¹ (Shuster), closed form; was inf at 1e±200
+    q, cov = getattr(wahba, solver)(b, b, weights=[w, w], return_covariance=True)
+    np.testing.assert_array_equal(q, [1.0, 0, 0, 0])
+    np.testing.assert_allclose(cov, np.diag([1 / w, 1 / w, 0.5 / w]), rtol=1e-14, atol=0)
+
+
+def test_wahba_covariance_that_overflows_is_refused():
+    from strapdown.wahba import quest
+
+    b = np.array([[1.0, 0, 0], [0, 1.0, 0]])
+    with pytest.raises(ValueError, match=r"covariance overflows float64: the weights \(largest 1e-320\)"):
+        quest(b, b, weights=[1e-320, 1e-320], return_covariance=True)
+
+
+def test_allan_deviation_is_linear_in_x_at_any_scale():
+    from strapdown.metrics import allan_deviation
+
+    # alternating ±c: the first cluster pair differs by 2c, so adev(1 sample) = √(4c²/2) = c√2 (closed form)
+    for c in (1e200, 1e-300, 1.0):
+        _, adev = allan_deviation(np.array([c, -c] * 50), fs=10.0, taus=[0.1, 0.2])
+        np.testing.assert_allclose(adev, [c * np.sqrt(2), 0.0], rtol=1e-14, atol=0)
+    _, adev = allan_deviation(np.array([1.0, -1.0] * 50), fs=1e300, taus=[1e-300])
+    np.testing.assert_allclose(adev, [np.sqrt(2)], rtol=1e-14)
+
+
+def test_error_quaternion_of_huge_norms_and_names():
+    from strapdown.metrics import error_quaternion
+
+    got = error_quaternion([[1e200, 0, 0, 1e199], [np.nan] * 4], [1.0, 0, 0, 0])
+    np.testing.assert_allclose(got[0], unit([1.0, 0, 0, 0.1]), atol=1e-15)
+    assert np.isnan(got[1]).all()  # occluded truth stays NaN
+    with pytest.raises(ValueError, match=r"q_est\[0\] is a zero quaternion"):
+        error_quaternion([[0.0, 0, 0, 0]], [[1.0, 0, 0, 0]])
+    with pytest.raises(ValueError, match=r"q_est and q_ref do not broadcast"):
+        error_quaternion(np.ones((2, 4)), np.ones((3, 4)))

@@ -112,17 +112,20 @@ def allan_deviation(x, fs: float, taus=None, *, overlapping: bool = True) -> tup
 
     # The Allan variance ignores a constant offset (the second difference of a line is zero); removing the mean
     # first keeps the running sum small, so the differences of its far-apart values lose no digits.
+    # The deviation is linear in x, so each signal is scaled by a power of two (exact) to a peak in [0.5, 1):
+    # the squares below cannot overflow (x ~ 1e200 gave inf) or underflow.  In sample units (θ without the 1/fs,
+    # τ = m) fs cancels from d²/τ², so it cannot under- or overflow them either.
     centred = arr - arr.mean(axis=0)
+    _, e = np.frexp(np.max(np.abs(centred), axis=0))
+    centred = np.ldexp(centred, -e)
     theta = np.zeros((n + 1, *arr.shape[1:]))
     np.cumsum(centred, axis=0, out=theta[1:])
-    theta /= fs
     adev = np.empty((sizes.shape[0], *arr.shape[1:]))
     for i, m in enumerate(sizes):
         stride = 1 if overlapping else m
         d = theta[2 * m :: stride] - 2 * theta[m : n + 1 - m : stride] + theta[: n + 1 - 2 * m : stride]
-        tau = m / fs
-        adev[i] = np.sqrt(np.mean(d**2, axis=0) / (2 * tau**2))
-    return sizes / fs, adev
+        adev[i] = np.sqrt(np.mean(d**2, axis=0) / (2.0 * m * m))
+    return sizes / fs, np.ldexp(adev, e)
 
 
 def error_quaternion(q_est, q_ref) -> np.ndarray:
@@ -149,14 +152,31 @@ def error_quaternion(q_est, q_ref) -> np.ndarray:
     """
     from .quaternion import multiply
 
-    est = _v.quaternions(q_est, "q_est", check=False, dtype=np.float64)
-    ref = _v.quaternions(q_ref, "q_ref", check=False, dtype=np.float64)
+    est = _unit_or_nan(q_est, "q_est")
+    ref = _unit_or_nan(q_ref, "q_ref")
+    _v.broadcast(("q_est", est.shape[:-1]), ("q_ref", ref.shape[:-1]))
     with np.errstate(invalid="ignore"):
-        est = est / np.linalg.norm(est, axis=-1, keepdims=True)
-        ref = ref / np.linalg.norm(ref, axis=-1, keepdims=True)
         ref = ref * np.array([1.0, -1.0, -1.0, -1.0])
         out = multiply(est, ref, check=False)
         return out / np.linalg.norm(out, axis=-1, keepdims=True)
+
+
+def _unit_or_nan(q, name: str) -> np.ndarray:
+    """Quaternions scaled to unit norm, any finite norm (a power of two first, exactly); NaN rows stay NaN.
+
+    A row that is neither NaN (occluded truth) nor a usable rotation, i.e. infinite or zero, is an error.
+    """
+    arr = _v.quaternions(q, name, check=False, dtype=np.float64)
+    with np.errstate(invalid="ignore"):
+        big = np.max(np.abs(arr), axis=-1)
+    bad = ~(big > 0) & ~np.isnan(big) | np.isinf(big)
+    if bad.any():
+        what = "infinite" if np.isinf(big[bad][0]) else "a zero quaternion"
+        raise ValueError(f"{name}{_v.first_index(bad)} is {what}; use NaN rows for missing attitudes")
+    _, e = np.frexp(big)
+    arr = np.ldexp(arr, -e[..., None])
+    with np.errstate(invalid="ignore"):
+        return arr / np.linalg.norm(arr, axis=-1, keepdims=True)
 
 
 def attitude_errors(q_est, q_ref) -> dict:

@@ -233,7 +233,7 @@ def rmse(x, mask=None) -> float:
     >>> rmse([3.0, 4.0, float("nan")])
     3.5355339059327378
     """
-    x = np.asarray(x, dtype=np.float64)
+    x = _v.as_float_array(x, "x", dtype=np.float64)
     if mask is not None:
         mask = np.asarray(mask, dtype=bool).reshape(-1)
         if mask.shape != x.shape[:1]:
@@ -275,7 +275,7 @@ def remove_heading_offset(q_est, q_ref, mask=None) -> np.ndarray:
     """
     from .quaternion import multiply
 
-    est = np.asarray(q_est, dtype=np.float64)
+    est = _v.as_float_array(q_est, "q_est", dtype=np.float64)
     q = error_quaternion(est, q_ref)
     signed = 2 * np.arctan2(q[:, 3], q[:, 0])
     use = np.isfinite(signed) if mask is None else np.isfinite(signed) & np.asarray(mask, dtype=bool)
@@ -315,7 +315,7 @@ def rmse_errors(q_est, q_ref, mask=None, *, heading_offset: bool = False, degree
     {'total': 1.0, 'heading': 0.0, 'inclination': 1.0}
     """
     est = _v.quaternions(q_est, "q_est", check=False, dtype=np.float64)
-    ref = np.asarray(q_ref, dtype=np.float64)
+    ref = _v.as_float_array(q_ref, "q_ref", dtype=np.float64)
     if est.ndim != 2 or est.shape != ref.shape:
         raise ValueError(f"q_est and q_ref must both have shape (N, 4), got {est.shape} and {ref.shape}")
     if heading_offset:

@@ -21,7 +21,7 @@ from numbers import Real
 import numpy as np
 
 from .. import _validate as _v
-from ..frames import frame_quaternion
+from ..frames import check_frame, frame_quaternion
 from ..quaternion import multiply, rotate
 
 __all__ = ["FLAG_ACC_REJECTED", "FLAG_INVERTED", "FLAG_MAG_REJECTED", "FLAG_REST", "Estimate", "Estimator"]
@@ -171,8 +171,8 @@ class Estimator:
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
-        self.frame = frame
-        self._to_out = frame_quaternion(self.natural_frame, frame)  # validates the frame name
+        self.frame = check_frame(frame, "frame", "reference")
+        self._to_out = frame_quaternion(self.natural_frame, frame)
         self._to_in = self._to_out * np.array([1.0, -1.0, -1.0, -1.0])
         self._q0 = None if q0 is None else _v.quaternions(q0, "q0", dtype=np.float64).reshape(4)
         self._state: dict | None = None

@@ -272,7 +272,7 @@ class AttitudeIntegrator:
         single, dtype = ex.get("single"), ex.get("dtype")
         if not isinstance(single, bool | np.bool_) or (single and q.shape[0] != 1):
             raise ValueError(f"state.extra['single'] must be a bool (True only for one body), got {single!r}")
-        if dtype not in (np.float32, np.float64):
+        if not (isinstance(dtype, np.dtype | type) and np.dtype(dtype) in (np.float32, np.float64)):
             raise ValueError(f"state.extra['dtype'] must be float32 or float64, got {dtype!r}")
         n_bodies = q.shape[0]
         fresh = self._fresh_state(n_bodies, bool(single), dtype, q0=q)

@@ -207,7 +207,8 @@ def attitude_errors(q_est, q_ref) -> dict:
     with np.errstate(invalid="ignore", divide="ignore"):
         return {
             "total": 2 * np.arccos(np.clip(np.abs(w), 0, 1)),
-            "heading": 2 * np.arctan(np.abs(z / w)),
+            # atan2(|z|, |w|) = atan(|z / w|) where w != 0, and 0 (not NaN) for a half turn about a horizontal axis
+            "heading": 2 * np.arctan2(np.abs(z), np.abs(w)),
             "inclination": 2 * np.arccos(np.clip(np.sqrt(w**2 + z**2), 0, 1)),
         }
 
@@ -225,7 +226,8 @@ def rmse(x, mask=None) -> float:
     Returns
     -------
     float
-        ``sqrt(nanmean(x[mask]²))``; NaN when no finite value is selected.
+        ``sqrt(nanmean(x[mask]²))``, NaN values (missing) left out; NaN when no value is selected.  An
+        infinite value is an error.
 
     Examples
     --------
@@ -239,10 +241,15 @@ def rmse(x, mask=None) -> float:
         if mask.shape != x.shape[:1]:
             raise ValueError(f"mask must have one entry per sample ({x.shape[0]}), got shape {mask.shape}")
         x = x[mask]
+    if np.isinf(x).any():
+        raise ValueError(f"x{_v.first_index(np.isinf(x))} is infinite; NaN marks a missing value, inf is an error")
     finite = np.isfinite(x)
     if not finite.any():
         return float("nan")
-    return float(np.sqrt(np.mean(x[finite] ** 2)))
+    # scaled by a power of two (exact) so that the squares neither overflow (1e200 gave inf) nor underflow
+    vals = x[finite]
+    _, e = np.frexp(np.max(np.abs(vals)))
+    return float(np.ldexp(np.sqrt(np.mean(np.ldexp(vals, -e) ** 2)), e))
 
 
 def remove_heading_offset(q_est, q_ref, mask=None) -> np.ndarray:

@@ -377,7 +377,9 @@ def _checked_state(value: dict, shapes: dict, unit_keys: tuple) -> dict:
             raise ValueError(f"{name} must be {_shape_text(shape)}, got shape {arr.shape}")
         _v.check_finite(arr, name)
         if key in unit_keys:
-            norm = float(np.sqrt(np.sum(arr * arr)))
+            # scaled by a power of two first: no overflow for a corrupted 1e200
+            _, e = np.frexp(np.max(np.abs(arr)))
+            norm = float(np.ldexp(np.sqrt(np.sum(np.ldexp(arr, -e) ** 2)), e))
             if not abs(norm - 1.0) <= _UNIT_TOL:
                 raise ValueError(f"{name} must be a unit quaternion, got norm {norm:.6g}")
             if abs(norm - 1.0) > 1e-12:  # beyond the rounding a kernel leaves: restore bit for bit otherwise
@@ -485,7 +487,7 @@ def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (4,)
-        Unit quaternion.
+        Unit quaternion (float32 when the inputs are).
 
     Examples
     --------
@@ -496,9 +498,26 @@ def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
     >>> initial_attitude([0.0, 0.0, 9.81], [0.0, 20.0, -40.0], "ENU").round(12)   # y axis points north
     array([1., 0., 0., 0.])
     """
+    out_dtype = _v.result_dtype(*(_v.as_float_array(x, n) for x, n in ((acc, "acc"), (mag, "mag")) if x is not None))
+    return _initial_attitude(acc, mag, frame).astype(out_dtype, copy=False)
+
+
+def _one_vector(v, name: str) -> np.ndarray:
+    """One 3-vector scaled by a power of two to a largest component in [0.5, 1), exactly.
+
+    Only its direction is used, and the norms below then neither overflow (1e200) nor underflow.
+    """
+    arr = _v.vectors(v, name, dtype=np.float64)
+    if arr.shape != (3,):
+        raise ValueError(f"{name} must be one sample of shape (3,), got shape {arr.shape}")
+    _, e = np.frexp(np.max(np.abs(arr)))
+    return np.ldexp(arr, -e)
+
+
+def _initial_attitude(acc, mag, frame: str) -> np.ndarray:
     from ..matrix import from_matrix
 
-    a = _v.vectors(acc, "acc", dtype=np.float64).reshape(3)
+    a = _one_vector(acc, "acc")
     na = np.linalg.norm(a)
     if not na > 0:
         raise ValueError("acc is zero: no direction of gravity to start from")
@@ -512,7 +531,7 @@ def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
         else:
             q = np.array([c, up[1] / (2 * c), -up[0] / (2 * c), 0.0])
         return multiply(to_frame, q)
-    m = _v.vectors(mag, "mag", dtype=np.float64).reshape(3)
+    m = _one_vector(mag, "mag")
     east = np.cross(m, up)
     ne = np.linalg.norm(east)
     if not ne > 1e-9 * np.linalg.norm(m):

@@ -61,3 +61,15 @@ def run_isolated(code: str, *args: str, timeout: float = 600) -> subprocess.Comp
     return subprocess.run(
         [sys.executable, "-c", code, *args], capture_output=True, text=True, timeout=timeout, check=False
     )
+
+
+def strapdown_cli(*args, timeout=180, cwd=None):
+    """``python -m strapdown.cli ARGS`` as a subprocess (text output); a relative PYTHONPATH still works in ``cwd``."""
+    import subprocess
+    import sys
+
+    env = dict(os.environ)
+    if env.get("PYTHONPATH"):
+        env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env["PYTHONPATH"].split(os.pathsep))
+    command = [sys.executable, "-m", "strapdown.cli", *map(str, args)]
+    return subprocess.run(command, capture_output=True, text=True, timeout=timeout, cwd=cwd, env=env)

@@ -31,6 +31,7 @@ import numpy as np
 
 from ._files import scratch_dir
 from .integrate import AttitudeIntegrator, integrate
+from .io.conventions import time_metadata
 from .io.imu import ImuColumns, ImuFile, _TimeCheck
 from .io.pipeline import (
     CHUNK_ROWS,
@@ -40,12 +41,13 @@ from .io.pipeline import (
     convert_file,
     default_output,
     estimate_file,
+    integrate_axes,
     integrate_file,
     integrate_stream,
 )
 from .io.readers import format_of, open_source
 from .io.tables import OutputSpec, attitude_columns
-from .io.writers import table_writer
+from .io.writers import csv_comments, table_writer
 from .quaternion import multiply
 
 __all__ = [
@@ -403,11 +405,16 @@ class _Part:
     prefix: tuple | None = None  # the attitude at row `start` (second pass)
     out: OutputSpec | None = None
     part_file: str | None = None
+    turn: tuple | None = None  # readings' axes -> the output's body axes (3 x 3, row by row), or None
+    t0: float = 0.0  # the file's first time: output t counts from it (second pass)
 
 
 def _part_stream(part: _Part, imu: ImuFile, box: dict):
     def tapped():
+        m = None if part.turn is None else np.asarray(part.turn).reshape(3, 3)
         for chunk in imu.chunks(part.chunk_rows, part.start, part.stop):
+            if m is not None:
+                chunk.gyro = chunk.gyro @ m.T
             box.setdefault("first_t", float(chunk.t[0]))
             box["last_t"] = float(chunk.t[-1])
             box["last_g"] = chunk.gyro[-1].copy()
@@ -444,7 +451,7 @@ def _part_write(part: _Part) -> int:
         with table_writer(part.part_file, part.out.format) as w:
             for t, q in _part_stream(part, imu, {}):
                 q = multiply(q, prefix) if reference else multiply(prefix, q)
-                w.write(attitude_columns(t, q, part.out))
+                w.write(attitude_columns(t - part.t0, q, part.out))
             rows = w.rows
     return rows
 
@@ -464,6 +471,10 @@ def integrate_split(
     q0=None,
     chunk_rows: int = CHUNK_ROWS,
     progress: Callable[[str], None] | None = None,
+    frame: str | None = None,
+    body: str | None = None,
+    out_body: str | None = None,
+    on_gap: str = "error",
 ) -> Report:
     """Integrate one file in ``parts`` row ranges at once (module notes); the same output as :func:`integrate_file`.
 
@@ -477,9 +488,11 @@ def integrate_split(
         Row ranges integrated in parallel.
     scheduler, workers
         Where the parts run (as for :func:`run_batch`).
-    columns, out, method, input, rate_frame, q0, chunk_rows
+    columns, out, method, input, rate_frame, q0, chunk_rows, frame, body, out_body
         As for :func:`~strapdown.io.integrate_file`; ``method`` one of ``SPLIT_METHODS``, or None when the
         default for ``input`` is one (:func:`check_split`).
+    on_gap : {"error"}
+        Gaps stop a split integration (a ValueError), as ``integrate_file``'s default does.
     progress : callable, optional
         Called with a line of text as each pass ends.
 
@@ -513,6 +526,8 @@ def integrate_split(
     """
     t_start = time.perf_counter()
     method = check_split(parts, method, input)
+    if on_gap != "error":
+        raise ValueError(f"a split integration stops at gaps (on_gap='error'), got on_gap={on_gap!r}")
     columns = columns or ImuColumns()
     out = out or OutputSpec()
     output = _output_path(path, output, "integrate", out.format)
@@ -521,8 +536,11 @@ def integrate_split(
         read = imu.describe()
         if n == 0:
             raise ValueError(f"{path}: no rows")
+        axes, meta = integrate_axes(imu, frame, body, out_body, rate_frame, out)
+        meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **meta}
+        turn = None if axes.matrix is None else tuple(axes.matrix.ravel().tolist())
         bounds = sorted(set(np.linspace(0, n, parts + 1).round().astype(int).tolist()))
-        base = _Part(str(path), 0, 0, columns, method, input, rate_frame, chunk_rows)
+        base = _Part(str(path), 0, 0, columns, method, input, rate_frame, chunk_rows, turn=turn)
         ranges = [replace(base, start=a, stop=b) for a, b in itertools.pairwise(bounds)]
         with _Runner(scheduler, workers) as runner:
             ends = _gather(runner.map(_part_end, ranges), len(ranges))
@@ -532,11 +550,13 @@ def integrate_split(
                 progress(f"pass 1: {len(ranges)} parts integrated from the identity")
             prefixes = _prefixes(ends, q0, method, input, rate_frame)
             fmt = format_of(output, out.format)
-            meta = _metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame)
+            t0 = ends[0].get("first_t", 0.0)
+            meta.update(time_metadata(imu, t0))
+            meta["time_first_input_s"] = repr(t0)
             with scratch_dir(output) as scratch:
                 files = [str(scratch / f"part{i:05d}.{fmt}") for i in range(len(ranges))]
                 second = [
-                    replace(r, prefix=tuple(p), out=replace(out, format=fmt), part_file=f)
+                    replace(r, prefix=tuple(p), out=replace(out, format=fmt), part_file=f, t0=t0)
                     for r, p, f in zip(ranges, prefixes, files, strict=True)
                 ]
                 rows = sum(_gather(runner.map(_part_write, second), len(second)))
@@ -647,12 +667,13 @@ def _prefixes(ends: list[dict], q0, method: str | None, input: str, rate_frame: 
 def _concatenate(files: Sequence[str], output: Path, fmt: str, chunk_rows: int, meta: dict) -> None:
     """Join part files into the output, atomically: CSV by bytes (one header), others by chunks of rows.
 
-    ``meta`` is what :func:`~strapdown.io.integrate_file` stores with its table (CSV stores none).
+    ``meta`` is what :func:`~strapdown.io.integrate_file` stores with its table (CSV: comment lines).
     """
     if fmt == "csv":
         from ._files import atomic_path
 
         with atomic_path(output) as tmp, open(tmp, "wb") as dst:
+            dst.write(csv_comments(meta).encode())
             for i, f in enumerate(files):
                 with open(f, "rb") as src:
                     header = src.readline()
@@ -667,4 +688,6 @@ def _concatenate(files: Sequence[str], output: Path, fmt: str, chunk_rows: int, 
                 for _, cols in src.chunks(names, chunk_rows):
                     if "flags" in cols:
                         cols["flags"] = cols["flags"].astype(np.uint8)
+                    if "segment" in cols:
+                        cols["segment"] = cols["segment"].astype(np.int32)
                     w.write(cols)

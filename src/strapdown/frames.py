@@ -119,9 +119,33 @@ def frame_quaternion(src: str, dst: str) -> np.ndarray:
     >>> frame_quaternion("ENU", "NED")
     array([0.        , 0.70710678, 0.70710678, 0.        ])
     """
-    from .matrix import from_matrix
+    return _permutation_quaternion(frame_matrix(src, dst))
 
-    return from_matrix(frame_matrix(src, dst))
+
+def _permutation_quaternion(m: np.ndarray) -> np.ndarray:
+    """The canonical unit quaternion of a rotation matrix, in closed form (Shepperd's method), in plain numpy.
+
+    Frame rotations are constants that every estimator builds when it is created: the numba kernel of
+    ``from_matrix`` would cost a cache load (a quarter of a second for a short command-line call) for one matrix.
+    Shepperd (1978) divides by the largest of 4w², 4x², 4y², 4z² (here at least 1 for any signed permutation),
+    so the result is exact to rounding; the sign follows :func:`strapdown.quaternion.canonical`.
+    """
+    tr = m[0, 0] + m[1, 1] + m[2, 2]
+    squares = [1.0 + tr, 1.0 + 2.0 * m[0, 0] - tr, 1.0 + 2.0 * m[1, 1] - tr, 1.0 + 2.0 * m[2, 2] - tr]  # 4w², 4x²...
+    k = int(np.argmax(squares))
+    r = np.sqrt(squares[k])  # 2 |q_k|
+    if k == 0:
+        q = [r, (m[2, 1] - m[1, 2]) / r, (m[0, 2] - m[2, 0]) / r, (m[1, 0] - m[0, 1]) / r]
+    elif k == 1:
+        q = [(m[2, 1] - m[1, 2]) / r, r, (m[0, 1] + m[1, 0]) / r, (m[0, 2] + m[2, 0]) / r]
+    elif k == 2:
+        q = [(m[0, 2] - m[2, 0]) / r, (m[0, 1] + m[1, 0]) / r, r, (m[1, 2] + m[2, 1]) / r]
+    else:
+        q = [(m[1, 0] - m[0, 1]) / r, (m[0, 2] + m[2, 0]) / r, (m[1, 2] + m[2, 1]) / r, r]
+    q = np.array(q) / 2.0
+    nonzero = q[np.abs(q) > 1e-12]
+    # the first non-zero component positive: canonical()'s rule (w > 0, on a tie x > 0, ...)
+    return (-q if nonzero[0] < 0 else q) + 0.0
 
 
 def change_frame(

@@ -3,7 +3,10 @@
 Reading needs the ``io`` extra (pyarrow, h5py, scipy): ``pip install 'strapdown[io]'``.  Nothing heavy is
 imported until a file is opened.
 
-* :func:`open_source` / :func:`read_table`: the fields of a file, streamed or whole (:mod:`.readers`);
+* :func:`open_source` / :func:`read_table`: the fields of a file, streamed or whole (:mod:`.readers`), in any
+  registered format (:mod:`.registry`, one module per format in :mod:`.formats`: CSV, Parquet, HDF5, MATLAB,
+  PX4 ULog, ROS 1/2 bags, ASL/EuRoC, Sensor Logger and phyphox exports, several files of one recording);
+* :func:`read_reference`: a log's own attitude (PX4 ``vehicle_attitude``) or a table's quaternions as truth;
 * :class:`ImuFile` / :func:`read_imu`: gyro, accelerometer, magnetometer and time in SI units, with the column
   mapping detected or given (:class:`ImuColumns`) and every chunk checked (:mod:`.imu`, :mod:`.units`,
   :mod:`.columns`);
@@ -27,13 +30,16 @@ True
 
 from .imu import ImuChunk, ImuColumns, ImuFile, read_imu
 from .pipeline import Report, convert_file, default_output, estimate_file, integrate_file, simulate_file
-from .readers import FORMATS, Source, format_of, open_source, read_metadata, read_table
+from .readers import FORMATS, INPUT_FORMATS, Source, format_of, input_format, open_source, read_metadata, read_table
+from .reference import Reference, read_reference
+from .source import TimeOrigin
 from .tables import REPRESENTATIONS, Angles, OutputSpec, attitude_columns, column_names, from_values, to_values
 from .units import UNITS
 from .writers import TableWriter, table_writer, write_table
 
 __all__ = [
     "FORMATS",
+    "INPUT_FORMATS",
     "REPRESENTATIONS",
     "UNITS",
     "Angles",
@@ -41,9 +47,11 @@ __all__ = [
     "ImuColumns",
     "ImuFile",
     "OutputSpec",
+    "Reference",
     "Report",
     "Source",
     "TableWriter",
+    "TimeOrigin",
     "attitude_columns",
     "column_names",
     "convert_file",
@@ -51,10 +59,12 @@ __all__ = [
     "estimate_file",
     "format_of",
     "from_values",
+    "input_format",
     "integrate_file",
     "open_source",
     "read_imu",
     "read_metadata",
+    "read_reference",
     "read_table",
     "simulate_file",
     "table_writer",

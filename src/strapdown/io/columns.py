@@ -9,6 +9,7 @@ optional ``imu`` in front and an axis letter after, with a unit at the end or in
 
 from __future__ import annotations
 
+import itertools
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -18,8 +19,32 @@ from .units import parse_unit
 __all__ = ["Pick", "describe_fields", "detect_rate", "detect_time", "detect_vector", "pick_vector", "split_name"]
 
 _STEMS = {
-    "gyro": ("gyr", "gyro", "gyros", "gyroscope", "g", "w", "omega", "angvel", "angularvelocity", "angularrate"),
-    "acc": ("acc", "accel", "accelerometer", "acceleration", "a", "f", "specificforce", "linearacceleration"),
+    # wrss / arss: ASL/EuRoC/TUM-VI's w_RS_S and a_RS_S (of sensor S relative to R, in S)
+    "gyro": (
+        "gyr",
+        "gyro",
+        "gyros",
+        "gyroscope",
+        "g",
+        "w",
+        "omega",
+        "angvel",
+        "angularvelocity",
+        "angularrate",
+        "wrss",
+        "rotationrate",
+    ),
+    "acc": (
+        "acc",
+        "accel",
+        "accelerometer",
+        "acceleration",
+        "a",
+        "f",
+        "specificforce",
+        "linearacceleration",
+        "arss",
+    ),
     "mag": ("mag", "magnetometer", "m", "b", "magneticfield", "field"),
 }
 _TIME = ("t", "time", "times", "timestamp", "timestamps", "ts", "sec", "seconds", "timesec", "stamp")
@@ -73,6 +98,10 @@ def split_name(name: str, kind: str | None = None) -> tuple[str, str | None]:
     (('gyrox', 'deg/s'), ('timestamp', 'ns'), ('ax', None))
     """
     kinds = (kind,) if kind else _KINDS
+    indexed = re.match(r"^(.*\S)\[([0-2])\]$", name)  # PX4's gyro_rad[0]: an index, x y z
+    if indexed:
+        base, unit = split_name(indexed.group(1), kind)
+        return base + _AXES[int(indexed.group(2))], unit
     unit = None
     bracket = re.search(r"[\[(]([^\])]*)[\])]", name)
     if bracket:
@@ -124,7 +153,12 @@ def describe_fields(fields: Mapping[str, int]) -> str:
     >>> describe_fields({"t": 1, "imu_gyr": 3})
     't, imu_gyr (N, 3)'
     """
-    return ", ".join(f"{n} (N, {w})" if w > 1 else n for n, w in fields.items()) or "(none)"
+    shown = [f"{n} (N, {w})" if w > 1 else n for n, w in itertools.islice(fields.items(), _SHOWN)]
+    more = f" and {len(fields) - _SHOWN} more" if len(fields) > _SHOWN else ""  # a 100k-column header stays readable
+    return ", ".join(shown) + more if shown else "(none)"
+
+
+_SHOWN = 60
 
 
 def _missing(name: str, option: str, fields: Mapping[str, int]) -> ValueError:
@@ -170,7 +204,9 @@ def pick_vector(spec: str, fields: Mapping[str, int], option: str, width: int = 
     )
 
 
-def detect_vector(kind: str, fields: Mapping[str, int], width: int = 3) -> Pick | None:
+def detect_vector(
+    kind: str, fields: Mapping[str, int], width: int = 3, units: Mapping[str, str] | None = None, bare: bool = False
+) -> Pick | None:
     """The fields holding ``kind`` ("gyro", "acc", "mag") by their names, or None when there are none.
 
     Parameters
@@ -181,6 +217,11 @@ def detect_vector(kind: str, fields: Mapping[str, int], width: int = 3) -> Pick 
         The file's fields and their widths.
     width : int
         Components wanted.
+    units : mapping of str to str, optional
+        Units stated apart from the names (a CSV unit row), by field.
+    bare : bool
+        Also take columns named by their axis alone (``x, y, z``, ``X (rad/s)``) as ``kind``: for a file that
+        holds one sensor.  Without it such columns count only when their unit is one of ``kind``'s.
 
     Returns
     -------
@@ -201,20 +242,25 @@ def detect_vector(kind: str, fields: Mapping[str, int], width: int = 3) -> Pick 
     ('imu_acc',)
     """
     stems = _STEMS[kind]
+    units = units or {}
     whole, parts = [], {}
     for name, w in fields.items():
         base, unit = split_name(name, kind)
+        if unit is None and name in units:
+            unit = parse_unit(kind, units[name], strict=False)
         stem = base[3:] if base.startswith("imu") and base[3:] else base
         if w == width and stem in stems:
             whole.append(Pick((name,), unit))
         elif w == 1 and len(stem) > 1 and stem[-1] in _AXES and stem[:-1] in stems:
             parts.setdefault(stem[:-1], {})[stem[-1]] = (name, unit)
+        elif w == 1 and len(stem) == 1 and stem in _AXES and (bare or unit is not None):
+            parts.setdefault("", {})[stem] = (name, unit)
     found = list(whole)
     for by_axis in parts.values():
         if len(by_axis) == width:
             names = tuple(by_axis[a][0] for a in _AXES[:width])
-            units = {by_axis[a][1] for a in _AXES[:width]}
-            found.append(Pick(names, units.pop() if len(units) == 1 else None))
+            axis_units = {by_axis[a][1] for a in _AXES[:width]}
+            found.append(Pick(names, axis_units.pop() if len(axis_units) == 1 else None))
     if len(found) > 1:
         option = {"gyro": "--gyro", "acc": "--acc", "mag": "--mag"}[kind]
         choices = "; ".join(p.label for p in found)

@@ -22,7 +22,8 @@ import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .readers import Source, check_chunk_rows, open_source, require_rows
-from .units import check_plausible, parse_unit, scale
+from .timebase import check_period, infer_time_unit, origin_of
+from .units import check_gravity_sign, check_gyro_at_rest, check_plausible, parse_unit, scale
 
 __all__ = ["ImuChunk", "ImuColumns", "ImuFile", "read_imu"]
 
@@ -43,8 +44,9 @@ class ImuColumns:
     gyro, acc, mag : str, optional
         Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``).
     time : str, optional
-        The time column.  Date-times and integers (epoch nanoseconds, say) are counted from the file's first
-        value; other numbers are taken as they are.
+        The time column.  Times are counted from the first sample; integers (epoch nanoseconds, µs since boot)
+        exactly, in integer arithmetic, with their unit inferred from the median step unless ``time_unit`` says
+        it (:mod:`strapdown.io.timebase`).
     rate : float, optional
         Sample rate in Hz, for files without time (row k is at k / rate).
     gyro_unit, acc_unit, mag_unit, time_unit : str, optional
@@ -58,7 +60,11 @@ class ImuColumns:
     unit_check : bool
         Check that the magnitudes fit the units.
     format : str, optional
-        The file format when the suffix does not tell it.
+        The input format when the layout or suffix does not tell it (:data:`strapdown.io.readers.INPUT_FORMATS`).
+    topic : str, optional
+        The IMU topic of a bag (``"/imu/data"``) or ULog (``"sensor_gyro"``); needed when there are several.
+    mag_topic : str, optional
+        The magnetometer topic of a bag (``sensor_msgs/MagneticField``) or ULog.
     """
 
     gyro: str | None = None
@@ -74,6 +80,8 @@ class ImuColumns:
     max_gap: float = 10.0
     unit_check: bool = True
     format: str | None = None
+    topic: str | None = None
+    mag_topic: str | None = None
 
     def __post_init__(self):
         # NaN would switch the check off without a word, a negative limit would fail every file
@@ -115,8 +123,9 @@ class ImuFile:
 
     Parameters
     ----------
-    path : path-like
-        A CSV, Parquet, HDF5 or MATLAB file.
+    path : path-like or sequence of path-like
+        Any input :func:`strapdown.io.open_source` takes: a table, a ULog, a bag, an export folder or zip, or
+        several files of one recording (one per sensor).
     columns : ImuColumns, optional
         Mapping and units (detected where left out).
     require : tuple of str
@@ -138,6 +147,22 @@ class ImuFile:
         Number of rows when known without a pass over the file.
     rate : float or None
         Sample rate (Hz) when rows are timed by a rate, not a column.
+    format : str
+        The input format read.
+    frame, body : str or None
+        The reference frame and sensor axes the format documents (ULog NED/FRD, ROS ENU/FLU, Android phones
+        ENU/RFU), None when the file does not say: defaults for the estimators' ``frame`` and the CLI's
+        ``--frame``/``--body``.
+    time_origin : TimeOrigin or None
+        What t = 0 is: the first sample's time on the file's clock (epoch, boot, or the file's own); None for
+        rows timed by a rate.
+    period : float or None
+        The median sample period, s (from the first rows).
+    sparse : set of str
+        The quantities ("acc", "mag") whose rows may be all NaN: no sample then (a slower sensor on the
+        gyro's rows, :mod:`strapdown.io.merge`).
+    notes : list of str
+        What the checks found and accepted (a normalised magnetometer).
 
     Examples
     --------
@@ -163,8 +188,12 @@ class ImuFile:
         increments: bool = False,
     ):
         self.spec = columns or ImuColumns()
-        self.source: Source = open_source(path, self.spec.format)
+        options = {k: getattr(self.spec, k) for k in ("topic", "mag_topic", "time_unit") if getattr(self.spec, k)}
+        self.source: Source = open_source(path, self.spec.format, **options)
         self.path = self.source.path
+        self.format = self.source.format
+        self.frame, self.body = self.source.frame, self.source.body
+        self.notes: list[str] = []
         try:
             self._resolve(require, optional, increments)
         except BaseException:
@@ -178,7 +207,12 @@ class ImuFile:
         self.units: dict[str, str] = {}
         for kind in (*require, *optional):
             given = getattr(spec, kind)
-            pick = pick_vector(given, fields, f"--{kind}") if given else detect_vector(kind, fields)
+            if given:
+                pick = pick_vector(given, fields, f"--{kind}")
+            elif kind in self.source.presets:
+                pick = Pick(tuple(self.source.presets[kind]))
+            else:
+                pick = detect_vector(kind, fields, units=self.source.units)
             if pick is None:
                 if kind in require:
                     raise ValueError(
@@ -188,17 +222,21 @@ class ImuFile:
                 continue
             self.picks[kind] = pick
             declared = getattr(spec, f"{kind}_unit")
-            self.units[kind] = parse_unit(kind, declared) if declared else (pick.unit_hint or _SI[kind])
+            stated = next((self.source.units[f] for f in pick.fields if f in self.source.units), None)
+            hint = pick.unit_hint or (parse_unit(kind, stated, strict=False) if stated else None)
+            self.units[kind] = parse_unit(kind, declared) if declared else (hint or _SI[kind])
         self.extra: dict[str, Pick] = {}
         for name, cols in spec.extra:
             n_given = len([c for c in cols.split(",") if c.strip()])
             width = n_given if n_given > 1 else fields.get(cols.strip(), 1)
             self.extra[name] = pick_vector(cols, fields, f"--extra {name}", width=width)
+        self.sparse = {k for k, p in self.picks.items() if k != "gyro" and set(p.fields) & self.source.sparse}
         self._resolve_time()
         self.increments = increments
         self.rows = self._check_lengths()
         # an output of no rows would look like a result; CSV, Parquet, HDF5 and .mat alike stop here
         require_rows(self.path, 0 if self.source.rows == 0 else self.rows)
+        self._probe()
 
     def _resolve_time(self) -> None:
         spec, fields = self.spec, self.source.fields
@@ -212,6 +250,8 @@ class ImuFile:
             self.rate = float(spec.rate)
         elif spec.time:
             self.time = pick_vector(spec.time, fields, "--time", width=1)
+        elif "time" in self.source.presets:
+            self.time = Pick(tuple(self.source.presets["time"]))
         else:
             self.time = detect_time(fields)
             if self.time is None:
@@ -223,9 +263,45 @@ class ImuFile:
                     f"{describe_fields(fields)}"
                 )
         self._timestamps = self.time is not None and self.source.is_timestamp(self.time.fields[0])
+        self.time_origin = None
+        self.period = None if self.rate is None else 1.0 / self.rate
+        self._t0 = 0.0
         if self.time is not None:
-            declared = self.spec.time_unit
-            self.units["time"] = parse_unit("time", declared) if declared else (self.time.unit_hint or "s")
+            # a decoded log's t is seconds already: a --time-unit was the reader's, for the files' own columns
+            declared = "s" if self.source.time_in_seconds else self.spec.time_unit
+            stated = self.source.units.get(self.time.fields[0])  # a unit row
+            hint = self.time.unit_hint or (parse_unit("time", stated, strict=False) if stated else None)
+            self.units["time"] = parse_unit("time", declared) if declared else (hint or "s")
+            self._resolve_time_unit(declared is not None or hint is not None)
+
+    def _resolve_time_unit(self, stated: bool) -> None:
+        """Infer an integer column's unit from its steps, check the period, and find what t = 0 is."""
+        name = self.time.fields[0]
+        integer = name in self.source.integers and not self._timestamps
+        relative = (name,) if integer else ()
+        values = self._head(relative)[name]
+        steps = np.diff(values[np.isfinite(values)])
+        step = float(np.median(steps)) if steps.size else None
+        if self._timestamps:
+            first = self.source.origins.get(name)
+            self.time_origin = (
+                None if first is None else origin_of(int(np.datetime64(first, "ns").astype(np.int64)), "ns")
+            )
+            unit = "s"
+        else:
+            first = int(self.source.origins[name]) if integer and name in self.source.origins else None
+            if first is None:
+                first = float(values[0]) if values.size else 0.0
+            if integer and not stated and step:
+                unit, _ = infer_time_unit(step, first, name, str(self.path))
+                self.units["time"] = unit
+            unit = self.units["time"]
+            if not integer:
+                self._t0 = float(values[0]) if values.size else 0.0
+            self.time_origin = self.source.time_origin or (origin_of(first, unit) if values.size else None)
+        if step:
+            check_period(step, unit, name, str(self.path))
+            self.period = step * scale("time", unit)
 
     def _check_lengths(self) -> int | None:
         """The rows of the fields read (HDF5 and .mat store each field's length; they must agree)."""
@@ -252,7 +328,58 @@ class ImuFile:
             parts.append(f"time: {self.time.label} (date-times, in s from the first)")
         else:
             parts.append(f"time: {self.time.label} ({self.units['time']})")
+        if self.time_origin is not None and self.time_origin.kind != "file":
+            parts.append(f"t = 0 at {self.time_origin}")
+        if self.sparse:
+            parts.append(f"{' and '.join(sorted(self.sparse))} at lower rates (NaN rows: no sample)")
+        if self.frame or self.body:
+            parts.append(f"frames: {self.frame or '?'}/{self.body or '?'} ({self.format})")
+        parts += self.notes
         return "; ".join(parts)
+
+    def _head(self, relative=()) -> dict:
+        """The first 4096 rows of the time, gyro, accelerometer and magnetometer fields, read once.
+
+        One pass serves both the time-unit inference and the checks of :meth:`_probe`.
+        """
+        if getattr(self, "_head_cols", None) is None:
+            names = list(self.time.fields) if self.time is not None else []
+            names += [f for k in ("gyro", "acc", "mag") if k in self.picks for f in self.picks[k].fields]
+            names = list(dict.fromkeys(names))
+            empty = {n: np.zeros(0 if self.source.fields[n] == 1 else (0, self.source.fields[n])) for n in names}
+            self._head_cols = next(iter(self.source.chunks(names, 4096, 0, 4096, relative=relative)), (0, empty))[1]
+        return self._head_cols
+
+    def _probe(self) -> None:
+        """Checks on the first rows: a normalised magnetometer, gravity's sign, a gyro the accelerometer contradicts."""
+        kinds = [k for k in ("acc", "mag") if k in self.picks]  # the gyro alone has nothing to be checked against
+        if not kinds or not self.spec.unit_check:
+            return
+        cols = self._head()
+        if not len(next(iter(cols.values()))):
+            return
+        if "mag" in self.picks and self.spec.mag_unit is None and self.picks["mag"].unit_hint is None:
+            raw = _assemble(cols, self.picks["mag"])
+            raw = raw[np.isfinite(raw).all(axis=1)]
+            norms = np.linalg.norm(raw, axis=1)
+            if norms.size and 0.8 <= np.median(norms) <= 1.25 and self.units["mag"] == "uT":
+                self.units["mag"] = "normalised"
+                self.notes.append(f"mag normalised (|m| median {np.median(norms):.3g}): used for its direction")
+        if "acc" not in self.picks:
+            return
+        acc = _assemble(cols, self.picks["acc"]) * scale("acc", self.units["acc"])
+        if self.source.upright and self.body:
+            problem = check_gravity_sign(acc[np.isfinite(acc).all(axis=1)], self.body)
+            if problem:
+                raise ValueError(f"{self.path}: {problem} (columns {self.picks['acc'].label})")
+        if not self.increments and self.period:
+            gyro = _assemble(cols, self.picks["gyro"]) * scale("gyro", self.units["gyro"])
+            both = np.isfinite(acc).all(axis=1) & np.isfinite(gyro).all(axis=1)
+            problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * self.period, self.units["gyro"])
+            if problem:
+                raise ValueError(
+                    f"{self.path}: {problem} (columns {self.picks['gyro'].label} and {self.picks['acc'].label})"
+                )
 
     def count_rows(self) -> int:
         """Number of rows (a pass over a CSV file)."""
@@ -304,7 +431,7 @@ class ImuFile:
             if self._timestamps:
                 t = cols[self.time.fields[0]]  # already seconds
             elif self.time is not None:
-                t = cols[self.time.fields[0]] * scale("time", self.units["time"])
+                t = (cols[self.time.fields[0]] - self._t0) * scale("time", self.units["time"])
             else:
                 t = (row + np.arange(n)) / self.rate
             check(t, row)
@@ -324,8 +451,18 @@ class ImuFile:
     def _check_finite(self, cols: dict, row: int, n: int) -> None:
         bad = np.zeros(n, dtype=bool)
         culprit = {}
+        # a slower sensor's rows are all NaN where it has no sample: those are not bad, partly NaN rows are
+        absent = {}
+        for kind in self.sparse:
+            fields = self.picks[kind].fields
+            none = np.all(
+                [np.isnan(cols[f]).all(axis=1) if cols[f].ndim == 2 else np.isnan(cols[f]) for f in fields], axis=0
+            )
+            absent.update(dict.fromkeys(fields, none))
         for name, values in cols.items():
             b = ~np.isfinite(values)
+            if name in absent:
+                b = b & ~(absent[name][:, None] if b.ndim == 2 else absent[name])
             if b.ndim == 2:
                 b = b.any(axis=1)
             if b.any():
@@ -348,6 +485,8 @@ class ImuFile:
         rate = 1.0 / period if (self.increments and kind == "gyro" and period) else None
         if kind == "gyro" and self.increments and not rate:
             return
+        if kind in self.sparse:
+            raw = raw[np.isfinite(raw).all(axis=1)]
         problem = check_plausible(kind, raw, self.units[kind], rate_hz=rate)
         if problem:
             raise ValueError(f"{self.path}: {problem} (columns {self.picks[kind].label}, from {self.where(row)})")

@@ -14,15 +14,18 @@ follows the estimators (a sample acts over the interval that ends at it) and als
 from __future__ import annotations
 
 import inspect
+import itertools
 import re
 import time
 from collections.abc import Callable, Iterator
+from contextlib import ExitStack
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from ..integrate import AttitudeIntegrator
+from ..integrate import AttitudeIntegrator, SingularityError
+from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source, require_rows
 from .tables import (
@@ -69,6 +72,10 @@ class Report:
         Wall time.
     read : str
         Which columns were read, in which units.
+    notes : list of str
+        What a user should know: frames, gaps, warnings (lines starting with ``warning:``).
+    outputs : list of pathlib.Path
+        Every file written (several with ``on_gap="split"``).
     """
 
     input: Path | None
@@ -77,6 +84,7 @@ class Report:
     seconds: float
     read: str = ""
     notes: list = field(default_factory=list)
+    outputs: list = field(default_factory=list)
 
 
 def default_output(input, command: str, format: str | None = None) -> Path:
@@ -209,9 +217,21 @@ class _RowTimes:
         return everything[:m]
 
 
+def _inputs(path) -> list[Path]:
+    """The files of one recording: one path, or the list of several (one per sensor)."""
+    return [Path(p) for p in path] if isinstance(path, list | tuple) else [Path(path)]
+
+
 def _output_path(path, output, command: str, format: str | None) -> Path:
-    out = Path(output) if output is not None else default_output(path, command, format)
-    if path is not None and out.resolve() == Path(path).resolve():
+    inputs = [] if path is None else _inputs(path)
+    if output is not None:
+        out = Path(output)
+    elif len(inputs) > 1:  # one file per sensor: the output is named after their folder, beside them
+        folder = inputs[0].parent
+        out = default_output(folder / f"{folder.resolve().name or 'recording'}.csv", command, format)
+    else:
+        out = default_output(path, command, format)
+    if any(out.resolve() == p.resolve() for p in inputs):
         raise ValueError(f"the output {out} is the input file; choose another output (-o)")
     return out
 
@@ -228,6 +248,10 @@ def integrate_file(
     q0=None,
     chunk_rows: int = CHUNK_ROWS,
     progress: Progress | None = None,
+    frame: str | None = None,
+    body: str | None = None,
+    out_body: str | None = None,
+    on_gap: str = "error",
 ) -> Report:
     """Integrate the gyro readings of a file into attitudes and write them, streaming (constant memory).
 
@@ -248,6 +272,16 @@ def integrate_file(
         Rows per chunk.
     progress : callable, optional
         Called with (rows done, total rows or None) after each chunk.
+    frame : str, optional
+        The reference frame that ``q0`` is given in, written into the output; without it the reference is the
+        body's own axes at the first sample (turned by ``q0``), written as ``inertial``.
+    body, out_body : str, optional
+        Axes of the readings and of the output attitudes, as for :func:`estimate_file` (``out_body`` defaults to
+        ``body``, or to the axes that go with ``frame`` when it is given).
+    on_gap : {"error", "split", "restart"}
+        A time step over ``columns.max_gap`` sample periods: a ValueError (default); a file per segment; or one
+        file with a ``segment`` column.  Either way each segment starts again from ``q0``: the rotation during
+        a gap is unknown.
 
     Returns
     -------
@@ -271,21 +305,52 @@ def integrate_file(
     t_start = time.perf_counter()
     chunk_rows = check_chunk_rows(chunk_rows)
     out = out or OutputSpec()
+    if on_gap not in ON_GAP:
+        raise ValueError(f"on_gap must be one of {', '.join(ON_GAP)}, got {on_gap!r}")
     output = _output_path(path, output, "integrate", out.format)
+    columns = columns or ImuColumns()
+    gap_limit = columns.max_gap
+    if on_gap != "error":
+        columns = replace(columns, max_gap=0)
     with ImuFile(path, columns, require=("gyro",), increments=input == "increment") as imu:
-        stream = integrate_stream(
-            _chunks_with_progress(imu, chunk_rows, progress),
-            method=method,
-            input=input,
-            rate_frame=rate_frame,
-            q0=q0,
-            rate=imu.rate,
-        )
-        meta = _metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame)
-        with table_writer(output, out.format, meta) as w:
-            for t, q in stream:
-                w.write(attitude_columns(t, q, out))
-        return Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
+        axes, frames = integrate_axes(imu, frame, body, out_body, rate_frame, out)
+        meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **frames}
+        run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
+        with run:
+            pieces = run.pieces(_chunks_with_progress(imu, chunk_rows, progress))
+            for seg, group in itertools.groupby(pieces, key=lambda piece: piece[0]):
+                turned = (_turned(chunk, axes) for _, chunk in group)
+                opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
+                try:
+                    for t, q in integrate_stream(turned, **opts):
+                        run.write(seg, attitude_columns(t - run.t_first, q, out))
+                except (ValueError, SingularityError) as exc:  # the integrator's words name no file
+                    raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
+        report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
+        report.notes.append(axes.describe())
+        report.notes.extend(run.notes)
+        report.outputs = run.outputs
+        return report
+
+
+def integrate_axes(imu, frame, body, out_body, rate_frame: str, out: OutputSpec):
+    """The axes of an integration, and their metadata: without a frame the reference is the body at t = 0."""
+    if frame is None and out_body is None:
+        out_body = body or getattr(imu, "body", None)  # no frame to go with: the readings' own axes
+    axes = resolve_axes(imu, frame, body, out_body)
+    if axes.matrix is not None and rate_frame != "body":
+        raise ValueError("--body turns body rates; rates in the reference frame (--rate-frame reference) cannot be")
+    meta = {**axes.metadata(), **output_metadata(out)}
+    if frame is None:
+        meta["frame"] = "inertial (the body axes at t = 0, turned by q0)"
+    return axes, meta
+
+
+def _turned(chunk, axes):
+    if axes.matrix is not None:
+        chunk = _slice(chunk, 0, len(chunk))
+        chunk.gyro = axes.rotate(chunk.gyro)
+    return chunk
 
 
 def estimator_inputs(cls) -> tuple[str, ...]:
@@ -319,13 +384,16 @@ def estimate_file(
     *,
     estimator: str = "attitude",
     params=None,
-    frame: str = "ENU",
+    frame: str | None = None,
     mag: bool | None = None,
     q0=None,
     columns: ImuColumns | None = None,
     out: OutputSpec | None = None,
     chunk_rows: int = CHUNK_ROWS,
     progress: Progress | None = None,
+    body: str | None = None,
+    out_body: str | None = None,
+    on_gap: str = "error",
 ) -> Report:
     """Run an estimator of :data:`strapdown.evaluate.ESTIMATORS` over a file and write its attitudes, streaming.
 
@@ -339,8 +407,9 @@ def estimate_file(
         A key of :data:`strapdown.evaluate.ESTIMATORS` (default: the AttitudeEstimator).
     params : mapping or parameter object, optional
         Parameters (a mapping overrides the defaults by name; validated).
-    frame : str
-        Reference frame of the output (``"ENU"``, ``"NED"``, ``"NWU"``, ...).
+    frame : str, optional
+        Reference frame of the output (``"ENU"``, ``"NED"``, ``"NWU"``, ...); by default the input format's
+        preset (a PX4 log is NED), else ENU.
     mag : bool, optional
         Use the magnetometer (9D): None uses it when the file has one and the estimator takes one; True
         requires it; False leaves it out.
@@ -354,11 +423,29 @@ def estimate_file(
         Rows per chunk.
     progress : callable, optional
         Called with (rows done, total rows or None) after each chunk.
+    body : str, optional
+        Axes of the readings (``"FRD"``, ``"FLU"``, ...); by default the format's preset, else taken to be
+        ``out_body``.  Readings are re-expressed in ``out_body`` before the estimator sees them.
+    out_body : str, optional
+        Body axes of the output attitudes; by default those that go with ``frame``
+        (:func:`strapdown.io.conventions.natural_body`: FRD for NED, FLU for ENU and NWU), so that a level
+        vehicle has zero roll and pitch.
+    on_gap : {"error", "split", "restart"}
+        A time step over ``columns.max_gap`` sample periods: a ValueError (default); a new output file per
+        segment (``<stem>-2.csv`` ...) with the estimator started afresh; or one file with the estimator
+        started afresh after each gap and a ``segment`` column.
 
     Returns
     -------
     Report
-        Files, rows and time taken.
+        Files, rows and time taken; ``notes`` holds the gaps and a warning when the bias sits at its limit.
+
+    Notes
+    -----
+    Output columns: ``t`` (s from the first sample), ``qw..qz``, Euler angles, ``bias_*`` (the unit in the
+    name), ``flags`` (bit mask of :func:`strapdown.io.tables.flag_bits`) and one boolean column per flag:
+    ``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``.  Metadata:
+    :mod:`strapdown.io.conventions`.
 
     Examples
     --------
@@ -391,19 +478,178 @@ def estimate_file(
     extra_names = [name for name, _ in columns.extra]
     require = ("gyro",) + (() if "pitch_roll" in extra_names else ("acc",)) + (("mag",) if mag else ())
     optional = ("mag",) if (takes_mag and mag is None) else ()
+    if on_gap not in ON_GAP:
+        raise ValueError(f"on_gap must be one of {', '.join(ON_GAP)}, got {on_gap!r}")
     output = _output_path(path, output, "estimate", out.format)
+    limit = getattr(p, "bias_limit", None)
+    gap_limit = columns.max_gap
+    if on_gap != "error":  # the reader lets gaps through; they are cut here
+        columns = replace(columns, max_gap=0)
     with ImuFile(path, columns, require=require, optional=optional) as imu:
-        est = cls(p, q0=q0, frame=frame.upper())
+        sparse = set(getattr(imu, "sparse", ()) or ())
+        if sparse and not cls.missing_samples:
+            raise ValueError(
+                f"{path}: the {' and '.join(sorted(sparse))} readings come at a lower rate than the gyro (rows "
+                f"without a sample); {estimator} needs a sample of every sensor on every row: use -e attitude, "
+                "which takes rows without a sample"
+            )
+        axes = resolve_axes(imu, frame, body, out_body)
         use_mag = "mag" in imu.picks
-        meta = _metadata("estimate", estimator=estimator, frame=frame.upper(), mode="9D" if use_mag else "6D")
-        with table_writer(output, out.format, meta) as w:
-            for chunk in _chunks_with_progress(imu, chunk_rows, progress):
+        meta = _metadata("estimate", estimator=estimator, mode="9D" if use_mag else "6D")
+        meta.update(axes.metadata())
+        meta.update(output_metadata(out, bias=cls.estimates_bias, flags=cls.reports_flags))
+        run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
+        est = None
+        warned = False
+        with run:
+            for seg, chunk in run.pieces(_chunks_with_progress(imu, chunk_rows, progress)):
+                if seg != run.segment_of_estimator:
+                    # a new segment starts from its own first sample; q0 is the first segment's only
+                    est = cls(p, q0=q0 if est is None else None, frame=axes.frame)
+                    run.segment_of_estimator = seg
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
-                e = est.update(chunk.gyro, chunk.acc, chunk.mag if use_mag else None, **timing, **chunk.extra)
-                w.write(attitude_columns(chunk.t, e.q, out, e.bias, e.flags))
-        report = Report(Path(path), output, w.rows, time.perf_counter() - t_start, imu.describe())
-        report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, output frame {frame.upper()}")
+                extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
+                mag_in = axes.rotate(chunk.mag) if use_mag else None
+                try:
+                    e = est.update(axes.rotate(chunk.gyro), axes.rotate(chunk.acc), mag_in, **timing, **extra)
+                except ValueError as exc:  # the estimator's own words name its arrays, not the file
+                    raise ValueError(f"{path}: {estimator} failed on {_rows(imu, chunk)}: {exc}") from None
+                lost = np.flatnonzero(~np.isfinite(e.q).all(axis=1))
+                if lost.size:
+                    i = int(lost[0])
+                    raise ValueError(
+                        f"{path}: the {estimator} estimator lost the attitude at {imu.where(chunk.row + i)} (gyro "
+                        f"{_triad(chunk.gyro[i])} rad/s, acc {_triad(chunk.acc, i)} m/s²): readings that large are "
+                        "not plausible; check that row and the units"
+                    )
+                at_limit = None
+                if limit and e.bias is not None:
+                    # the estimators clip each axis at bias_limit: a bias there says the limit, not the gyro
+                    at_limit = (np.abs(e.bias) >= limit * (1.0 - 1e-9)).any(axis=1)
+                    if at_limit.any() and not warned:
+                        warned = True
+                        i = int(np.argmax(at_limit))
+                        run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
+                run.write(seg, attitude_columns(run.t(chunk), e.q, out, e.bias, e.flags, at_limit))
+        report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
+        report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
+        report.notes.extend(run.notes)
+        report.outputs = run.outputs
         return report
+
+
+ON_GAP = ("error", "split", "restart")
+
+
+def _bias_warning(bias, limit: float, t: float, where: str) -> str:
+    axis = "xyz"[int(np.argmax(np.abs(bias)))]
+    return (
+        f"warning: the gyro bias estimate reached its limit bias_limit = {np.degrees(limit):.3g} deg/s on the "
+        f"{axis} axis at t = {t:.6g} s ({where}), and is clipped there (the bias_at_limit column says where): the "
+        "gyro's bias may be larger (raise -p bias_limit_deg_s=...), or its readings in another unit (--gyro-unit)"
+    )
+
+
+class _Segments:
+    """The output side of a file command: relative time, gaps (``on_gap``), one writer per segment file."""
+
+    def __init__(self, imu, output: Path, out: OutputSpec, max_gap: float, on_gap: str, meta: dict):
+        self.imu, self.output, self.out, self.on_gap, self.meta = imu, Path(output), out, on_gap, meta
+        self.splitter = GapSplitter(max_gap, getattr(imu, "period", None)) if on_gap != "error" else None
+        self.t_first: float | None = None
+        self.writers: dict[int, object] = {}
+        self.outputs: list[Path] = []
+        self.notes: list[str] = []
+        self.rows = 0
+        self.segment_of_estimator = -1
+        self.current = None  # the chunk in flight, for messages
+        self._stack = ExitStack()
+
+    def __enter__(self):
+        self._stack.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        if exc[0] is None:
+            if not self.writers:  # no rows: the reader said so already, but never leave without a file
+                self._writer(0)
+            if self.splitter is not None and self.splitter.gaps:
+                listing = "; ".join(f"{a:.6g} s -> {b:.6g} s" for a, b in self.splitter.gaps[:5])
+                more = f" and {len(self.splitter.gaps) - 5} more" if len(self.splitter.gaps) > 5 else ""
+                how = "a file per segment" if self.on_gap == "split" else "started afresh after each"
+                self.notes.append(f"{len(self.splitter.gaps)} gap(s) ({how}): {listing}{more}")
+        return self._stack.__exit__(*exc)
+
+    def t(self, chunk) -> np.ndarray:
+        """Seconds from the first sample of the file."""
+        if self.t_first is None:
+            self.t_first = float(chunk.t[0]) if len(chunk) else 0.0
+            self.meta.update(time_metadata(self.imu, self.t_first))
+            self.meta["time_first_input_s"] = repr(self.t_first)
+        return chunk.t - self.t_first
+
+    def pieces(self, chunks):
+        """(segment, chunk) in order, the chunks cut at the gaps."""
+        seg = 0
+        for chunk in chunks:
+            if not len(chunk):
+                continue
+            t = self.t(chunk)
+            cuts = [] if self.splitter is None else list(self.splitter(t))
+            start = 0
+            for i in [*cuts, len(chunk)]:
+                if i > start:
+                    self.current = _slice(chunk, start, i)
+                    yield seg, self.current
+                if i < len(chunk):
+                    seg += 1
+                start = i
+
+    def _writer(self, seg: int):
+        key = seg if self.on_gap == "split" else 0
+        if key not in self.writers:
+            name = f"{self.output.stem}-{key + 1}{self.output.suffix}"
+            path = self.output if key == 0 else self.output.with_name(name)
+            meta = dict(self.meta)
+            if self.on_gap == "split":
+                meta["segment"] = str(key)
+            self.writers[key] = self._stack.enter_context(table_writer(path, self.out.format, meta))
+            self.outputs.append(path)
+        return self.writers[key]
+
+    def write(self, seg: int, columns: dict) -> None:
+        if self.on_gap == "restart":
+            columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
+        w = self._writer(seg)
+        w.write(columns)
+        self.rows += len(columns["t"])
+
+
+def _triad(v, i=None) -> str:
+    if v is None:
+        return "none"
+    v = v if i is None else v[i]
+    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+
+
+def _rows(imu, chunk) -> str:
+    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file)."""
+    if chunk is None:
+        return "its first rows"
+    first, last = imu.where(chunk.row), imu.where(chunk.row + len(chunk) - 1)
+    return f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the readings there are not plausible)"
+
+
+def _slice(chunk, a: int, b: int):
+    from .imu import ImuChunk
+
+    if (a, b) == (0, len(chunk)):
+        return chunk
+    part = ImuChunk(chunk.row + a, chunk.t[a:b], chunk.gyro[a:b])
+    part.acc = None if chunk.acc is None else chunk.acc[a:b]
+    part.mag = None if chunk.mag is None else chunk.mag[a:b]
+    part.extra = {k: v[a:b] for k, v in chunk.extra.items()}
+    return part
 
 
 _QUAT_NAMES = (
@@ -473,12 +719,37 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
     array([[0.707107, 0.      , 0.      , 0.707107],
            [     nan,      nan,      nan,      nan]])
     """
-    ok = np.isfinite(values).all(axis=1)
+    values = np.asarray(values, dtype=np.float64)
+    unknown = np.isnan(values).any(axis=1)
+    infinite = np.flatnonzero(~unknown & ~np.isfinite(values).all(axis=1))
+    if infinite.size:
+        raise RowError(int(infinite[0]), "an infinite value (a NaN row is an unknown attitude; inf is not)")
+    ok = ~unknown
+    if source == "quat":
+        zero = np.flatnonzero(ok & ~(np.abs(values) > 0).any(axis=1))
+        if zero.size:
+            raise RowError(int(zero[0]), "a zero quaternion, which is no attitude")
+    if source in _ANGULAR:
+        # beyond about 1e9 turns' worth the angle has no digits left below a turn: no attitude can be read from it
+        limit = 360.0 * 1e9 if angles_in.degrees else 2 * np.pi * 1e9
+        angular = values[:, -1:] if source == "axis_angle" else values
+        big = np.flatnonzero(ok & (np.abs(angular) > limit).any(axis=1))
+        if big.size:
+            unit = "deg" if angles_in.degrees else "rad"
+            raise RowError(int(big[0]), f"an angle beyond ±{limit:.3g} {unit}: no digits are left below a turn")
     out = np.full((values.shape[0], REPRESENTATIONS[target]), np.nan)
     if ok.any():
         q = from_values(source, values[ok], angles_in)
         out[ok] = to_values(target, q, angles_out)
     return out
+
+
+class RowError(ValueError):
+    """A bad input row: ``row`` (0-based within the array) and what is wrong with it, for the caller to place."""
+
+    def __init__(self, row: int, problem: str):
+        super().__init__(f"row {row} holds {problem}")
+        self.row, self.problem = row, problem
 
 
 def convert_file(
@@ -565,9 +836,14 @@ def convert_file(
         done = 0
         meta = _metadata("convert", source=source, target=target)
         with table_writer(output, out_format, meta) as w:
-            for _, cols in src.chunks(wanted, chunk_rows):
+            for row, cols in src.chunks(wanted, chunk_rows):
                 values = cols[fields[0]] if len(fields) == 1 else np.column_stack([cols[f] for f in fields])
-                converted = convert_values(values, source, target, angles_in, angles_out)
+                try:
+                    converted = convert_values(values, source, target, angles_in, angles_out)
+                except RowError as exc:
+                    raise ValueError(
+                        f"{path}: {src.where(row + exc.row)} ({', '.join(fields)}) holds {exc.problem}"
+                    ) from None
                 table = {tname: cols[tname]} if tname else {}
                 table.update(zip(names_out, converted.T, strict=True))
                 w.write(table)
@@ -679,7 +955,16 @@ def simulate_file(
         rate_hz=rate,
         gyro_input=data.gyro_input,
         reference=reference,
-        body=body,
+        frame=reference.upper(),  # the truth's, and the name every reader of frames looks for
+        body=body.upper(),
+        quaternion="w,x,y,z scalar first, Hamilton, body to frame (qw_true..qz_true)",
+        time_unit="s",
+        time_origin="0",
+        time_origin_unit="s",
+        time_origin_kind="file",
+        gyro_unit=gyro_unit,
+        acc_unit=acc_unit,
+        mag_unit=mag_unit,
         imu=imu,
         seed=seed,
     )

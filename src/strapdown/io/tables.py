@@ -22,7 +22,17 @@ from ..euler import _parse_seq, as_euler, from_euler
 from ..matrix import as_matrix, from_matrix
 from ..rotvec import as_axis_angle, as_gibbs, as_rotvec, from_axis_angle, from_gibbs, from_rotvec
 
-__all__ = ["REPRESENTATIONS", "Angles", "OutputSpec", "attitude_columns", "column_names", "from_values", "to_values"]
+__all__ = [
+    "FLAG_COLUMNS",
+    "REPRESENTATIONS",
+    "Angles",
+    "OutputSpec",
+    "attitude_columns",
+    "column_names",
+    "flag_bits",
+    "from_values",
+    "to_values",
+]
 
 #: Representation name -> number of real values.
 REPRESENTATIONS = {
@@ -237,8 +247,43 @@ class OutputSpec:
     format: str | None = None
 
 
-def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=None) -> dict:
-    """The output table of attitudes: ``t``, ``qw..qz``, Euler angles, ``bias_*`` and ``flags``.
+#: The named boolean columns written beside ``flags``: column name -> name of its bit in :mod:`strapdown.fusion`.
+FLAG_COLUMNS = {
+    "rest": "FLAG_REST",
+    "acc_rejected": "FLAG_ACC_REJECTED",
+    "mag_rejected": "FLAG_MAG_REJECTED",
+    "inverted": "FLAG_INVERTED",
+    "bias_at_limit": "FLAG_BIAS_AT_LIMIT",
+}
+# The bias-at-limit bit when the estimators do not define one: the next free bit after FLAG_INVERTED (8).
+_BIAS_AT_LIMIT = 16
+
+
+def flag_bits() -> dict[str, int]:
+    """The bit of each named flag column (:data:`FLAG_COLUMNS`), as the estimators define them.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    dict of str to int
+        Column name -> bit value in the ``flags`` bit mask.
+
+    Examples
+    --------
+    >>> from strapdown.io.tables import flag_bits
+    >>> flag_bits()
+    {'rest': 1, 'acc_rejected': 2, 'mag_rejected': 4, 'inverted': 8, 'bias_at_limit': 16}
+    """
+    from .. import fusion
+
+    return {name: int(getattr(fusion, bit, _BIAS_AT_LIMIT)) for name, bit in FLAG_COLUMNS.items()}
+
+
+def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=None, bias_at_limit=None) -> dict:
+    """The output table of attitudes: ``t``, ``qw..qz``, Euler angles, ``bias_*``, ``flags`` and one column per flag.
 
     Parameters
     ----------
@@ -251,7 +296,11 @@ def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=Non
     bias : numpy.ndarray of shape (N, 3), optional
         Gyro bias, rad/s.
     flags : numpy.ndarray of shape (N,), optional
-        Estimator flags.
+        Estimator flags: a bit mask of the bits of :func:`flag_bits`.  Written as the integer ``flags`` and as one
+        boolean column per bit (``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``).
+    bias_at_limit : numpy.ndarray of bool, shape (N,), optional
+        Rows whose bias sits at the estimator's ``bias_limit`` on some axis, when the estimator does not flag it
+        itself: its bit is set in ``flags``.
 
     Returns
     -------
@@ -265,6 +314,11 @@ def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=Non
     >>> cols = attitude_columns(np.array([0.0]), np.array([[1.0, 0.0, 0.0, 0.0]]))
     >>> list(cols)
     ['t', 'qw', 'qx', 'qy', 'qz', 'yaw_deg', 'pitch_deg', 'roll_deg']
+    >>> cols = attitude_columns([0.0, 0.1], np.eye(4)[[0, 0]], flags=np.array([0, 5]))
+    >>> list(cols)[-6:]
+    ['flags', 'rest', 'acc_rejected', 'mag_rejected', 'inverted', 'bias_at_limit']
+    >>> cols["rest"], cols["acc_rejected"], cols["mag_rejected"]
+    (array([False,  True]), array([False, False]), array([False,  True]))
     """
     cols = {"t": np.asarray(t, dtype=np.float64)}
     cols.update(zip(column_names("quat"), np.asarray(q, dtype=np.float64).T, strict=True))
@@ -277,5 +331,10 @@ def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=Non
         b = np.degrees(bias) if spec.angles.degrees else np.asarray(bias)
         cols.update({f"bias_{a}_{unit}": b[:, i] for i, a in enumerate("xyz")})
     if spec.flags and flags is not None:
-        cols["flags"] = np.asarray(flags, dtype=np.uint8)
+        bits = flag_bits()
+        f = np.asarray(flags, dtype=np.uint8)
+        if bias_at_limit is not None:
+            f = f | np.where(bias_at_limit, bits["bias_at_limit"], 0).astype(np.uint8)
+        cols["flags"] = f
+        cols.update({name: (f & bit) != 0 for name, bit in bits.items()})
     return cols

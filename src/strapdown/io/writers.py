@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import io
+import re
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
@@ -18,10 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from .._files import atomic_path
+from ._arrow import from_numpy
 from ._deps import need
 from .readers import COLUMNS_VARIABLE, format_of
 
-__all__ = ["TableWriter", "table_writer", "write_table"]
+__all__ = ["TableWriter", "csv_comments", "table_writer", "write_table"]
 
 
 class TableWriter:
@@ -57,6 +59,7 @@ class TableWriter:
         if self.format == "csv":
             self._sink = open(self.path, "wb")
             text = io.StringIO()
+            text.write(csv_comments(self.metadata))
             csv.writer(text, lineterminator="\n").writerow(self.names)
             self._sink.write(text.getvalue().encode())
         elif self.format == "parquet":
@@ -80,6 +83,9 @@ class TableWriter:
 
     def _write_csv(self, columns) -> None:
         pc = need("pyarrow.csv", "writing CSV files")
+        # booleans as 0 and 1, which every CSV reader takes for numbers (Arrow would write true and false)
+        columns = {n: np.asarray(v) for n, v in columns.items()}
+        columns = {n: v.view(np.uint8) if v.dtype == bool else v for n, v in columns.items()}
         pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
 
     def _write_parquet(self, columns) -> None:
@@ -106,7 +112,16 @@ class TableWriter:
         if self.format == "mat":
             sio = need("scipy.io", "writing MATLAB files")
             data = {n: np.concatenate(self._parts[n]) for n in self.names}
+            if all(n in data for n in _QUAT):
+                # MATLAB users index q(k, :): the quaternions also as one N x 4 matrix, [w x y z] per row
+                data["q"] = np.column_stack([data[n] for n in _QUAT])
             data.update({k: _number(v) for k, v in self.metadata.items()})
+            bad = [n for n in data if not _MATLAB_NAME.fullmatch(n)]
+            if bad:
+                raise ValueError(
+                    f"{self.target}: {', '.join(map(repr, bad))} cannot be MATLAB variable names (a letter, then up "
+                    "to 62 letters, digits or underscores); rename the columns, or write another format"
+                )
             # MATLAB stores a one-row column like a scalar: the list tells the reader which variables are columns
             data[COLUMNS_VARIABLE] = np.array(self.names, dtype=object)
             with open(self.path, "wb") as f:
@@ -114,6 +129,33 @@ class TableWriter:
         elif self._sink is not None:
             self._sink.close()
         self._sink = None
+
+
+_QUAT = ("qw", "qx", "qy", "qz")
+_MATLAB_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
+
+
+def csv_comments(metadata: Mapping[str, str] | None) -> str:
+    """The ``# key: value`` lines that carry a CSV file's metadata above its header (:func:`read_metadata`).
+
+    Parameters
+    ----------
+    metadata : mapping of str to str, optional
+        The items; a value is written on one line (its whitespace runs become single spaces).
+
+    Returns
+    -------
+    str
+        One line per item, each ending in a newline.
+
+    Examples
+    --------
+    >>> from strapdown.io.writers import csv_comments
+    >>> print(csv_comments({"frame": "NED", "body": "FRD"}), end="")
+    # frame: NED
+    # body: FRD
+    """
+    return "".join(f"# {key}: {' '.join(str(value).split())}\n" for key, value in (metadata or {}).items())
 
 
 def _number(text: str):
@@ -125,7 +167,7 @@ def _number(text: str):
 
 def _batch(columns: Mapping[str, np.ndarray]):
     pa = need("pyarrow", "writing tables")
-    return pa.record_batch([pa.array(np.ascontiguousarray(v)) for v in columns.values()], names=list(columns))
+    return pa.record_batch([from_numpy(v) for v in columns.values()], names=list(columns))
 
 
 @contextmanager

@@ -1,0 +1,118 @@
+"""Per-call cost of the command line: ``strapdown --help`` and ``strapdown estimate`` on a 200-row CSV.
+
+    python benchmarks/bench_cli.py [--src PATH ...] [--runs 5] [--cold] [--json out.json]
+
+Each measured call is a fresh ``python -m strapdown.cli`` process, timed from the outside (wall time, as a user
+waits for it).  ``--src`` names a checkout's ``src`` folder to measure (repeatable; the first is this checkout's
+by default), so that before and after come from the same run on the same machine: e.g. the branch point,
+unpacked with ``git archive 0e1d9e9 src | tar -x -C /tmp/base``, then ``--src /tmp/base/src --src src``.  The
+runs of the checkouts are interleaved (A, B, A, B, ...) so that a change of load hits them alike.  The machine
+is shared and noisy: read the figures as medians next to each other, not as absolutes.
+
+Warm cache: each checkout runs the command once, unmeasured, to fill its numba cache (``cache=True`` writes it
+beside the sources), then ``--runs`` times.  ``--cold`` also times one call of each with an empty numba cache
+(``NUMBA_CACHE_DIR`` set to a fresh folder): what the first call after a fresh install costs, when every kernel
+the command touches is compiled.
+
+The input: 200 rows at 100 Hz of a level, still IMU with gyro, accelerometer and magnetometer (t, gx..gz in
+rad/s, ax..az in m/s², mx..mz in µT), written with numpy so that every checkout reads the same bytes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent.parent
+
+
+def write_csv(path: Path, n: int = 200) -> Path:
+    rng = np.random.default_rng(0)
+    t = np.arange(n) * 0.01
+    gyro = rng.normal(0.0, 0.01, (n, 3))
+    acc = rng.normal(0.0, 0.05, (n, 3)) + np.array([0.0, 0.0, 9.81])
+    mag = np.tile([20.0, 0.0, -40.0], (n, 1)) + rng.normal(0.0, 0.5, (n, 3))
+    header = "t,gx,gy,gz,ax,ay,az,mx,my,mz"
+    np.savetxt(path, np.column_stack([t, gyro, acc, mag]), delimiter=",", header=header, comments="", fmt="%.9g")
+    return path
+
+
+def timed(src: str, args: list[str], env_extra: dict | None = None, cwd: str | None = None) -> tuple[float, float]:
+    """(wall seconds, CPU seconds: user + system of the child) of one call."""
+    env = dict(os.environ, PYTHONPATH=src, **(env_extra or {}))
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    res = subprocess.run(
+        [sys.executable, "-m", "strapdown.cli", *args], env=env, cwd=cwd, capture_output=True, text=True
+    )
+    seconds = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if res.returncode != 0:
+        raise SystemExit(f"strapdown {' '.join(args)} failed with {src}:\n{res.stderr}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return seconds, cpu
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--src", action="append", help="A checkout's src folder (repeatable; default: ./src).")
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--cold", action="store_true", help="Also time one call with an empty numba cache.")
+    parser.add_argument("--json", help="Write the figures here.")
+    a = parser.parse_args()
+    sources = [str(Path(s).resolve()) for s in (a.src or [str(HERE / "src")])]
+    with tempfile.TemporaryDirectory() as tmp:
+        log = write_csv(Path(tmp) / "log200.csv")
+        calls = {
+            "help": ["--help"],
+            "estimate": ["estimate", str(log), "-o", str(Path(tmp) / "out.csv"), "-q"],
+        }
+        for src in sources:  # fill each checkout's numba cache
+            timed(src, calls["estimate"])
+        times = {src: {name: [] for name in calls} for src in sources}
+        for _ in range(a.runs):
+            for name, args in calls.items():
+                for src in sources:
+                    times[src][name].append(timed(src, args))
+        cold = {}
+        if a.cold:
+            for src in sources:
+                with tempfile.TemporaryDirectory() as cache:
+                    cold[src] = timed(src, calls["estimate"], {"NUMBA_CACHE_DIR": cache})
+    load = os.getloadavg()[0]
+    print(f"load average {load:.1f} on {os.cpu_count()} cores; seconds of one call, {a.runs} runs each")
+    print("wall: what a user waits (grows with the load); cpu: user + system time of the process (less so)")
+    print(f"{'checkout':48} {'call':9} {'wall med':>8} {'min':>6} {'max':>6} {'cpu med':>8}")
+    for src in sources:
+        for name in calls:
+            wall = [w for w, _ in times[src][name]]
+            cpu = [c for _, c in times[src][name]]
+            line = f"{statistics.median(wall):8.3f} {min(wall):6.3f} {max(wall):6.3f} {statistics.median(cpu):8.3f}"
+            print(f"{src[-48:]:48} {name:9} {line}")
+        if src in cold:
+            w, c = cold[src]
+            print(f"{src[-48:]:48} {'cold':9} {w:8.3f} {'':6} {'':6} {c:8.3f}   (estimate, empty numba cache)")
+    if len(sources) > 1:
+        base, new = sources[0], sources[-1]
+        for name in calls:
+            for k, what in ((0, "wall"), (1, "cpu")):
+                b = statistics.median([x[k] for x in times[base][name]])
+                n = statistics.median([x[k] for x in times[new][name]])
+                print(f"{name} {what}: last / first checkout = {n / b:.2f}")
+    if a.json:
+        out = {"load": load, "runs": a.runs, "times": times, "cold": cold}
+        Path(a.json).write_text(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,468 @@
+"""Options and helpers shared by the command modules (private).
+
+Nothing heavy at import: click only.  Each option helper decorates a command function; the ``*_spec`` functions
+turn parsed options into the objects of :mod:`strapdown.io`.
+"""
+
+from __future__ import annotations
+
+import sys
+
+FRAMES = ("ENU", "NED", "NWU")
+CHUNK_ROWS = 1 << 18  # as strapdown.io.pipeline.CHUNK_ROWS (not imported: --help stays light)
+FORMATS = ("csv", "parquet", "hdf5", "mat")
+
+
+def unit_option(kind: str, default_text: str):
+    import click
+
+    from ..io.units import UNITS
+
+    def check(ctx, param, value):
+        if value is None:
+            return None
+        from ..io.units import parse_unit
+
+        try:
+            return parse_unit(kind, value)
+        except ValueError as exc:
+            raise click.BadParameter(str(exc)) from None
+
+    return click.option(
+        f"--{kind}-unit",
+        default=None,
+        callback=check,
+        metavar="|".join(UNITS[kind]),
+        help=f"Unit of the {kind} columns (default: from the header, else {default_text}).",
+    )
+
+
+def read_options(f, *, acc: bool = True, mag: bool = True):
+    """The column-mapping, unit and check options shared by the file commands, outermost first."""
+    import click
+
+    opts = [
+        click.option("--gyro", metavar="COLS", help="Gyro columns: gx,gy,gz or one (N, 3) array (default: detected)."),
+        click.option("--acc", metavar="COLS", help="Accelerometer columns (default: detected).") if acc else None,
+        click.option("--mag", metavar="COLS", help="Magnetometer columns (default: detected).") if mag else None,
+        click.option("--time", "time_col", metavar="COL", help="Time column (default: t, time, timestamp, ...)."),
+        click.option("--rate", type=float, metavar="HZ", help="Sample rate, for files without a time column."),
+        unit_option("gyro", "rad/s"),
+        unit_option("acc", "m/s2") if acc else None,
+        unit_option("mag", "uT") if mag else None,
+        unit_option("time", "s"),
+        click.option(
+            "--max-gap",
+            default=10.0,
+            show_default=True,
+            metavar="K",
+            help="Largest time step allowed, in sample periods (0: no check).",
+        ),
+        click.option(
+            "--on-gap",
+            type=click.Choice(["error", "split", "restart"]),
+            default="error",
+            show_default=True,
+            help="At a gap over --max-gap: stop; write a file per segment; or start afresh, with a segment column.",
+        ),
+        click.option("--no-unit-check", is_flag=True, help="Do not check that magnitudes fit the units."),
+        click.option("--topic", metavar="NAME", help="Bag or log topic of the IMU (listed when ambiguous)."),
+        click.option("--mag-topic", metavar="NAME", help="Bag or log topic of the magnetometer."),
+        click.option(
+            "--in-format", type=click.Choice(input_formats()), help="Input format (default: from the suffix, folder)."
+        ),
+    ]
+    for opt in reversed([o for o in opts if o is not None]):
+        f = opt(f)
+    return f
+
+
+def output_options(f, *, bias: bool = False):
+    import click
+
+    opts = [
+        click.option(
+            "-o", "--output", type=click.Path(dir_okay=False), help="Output file (.csv, .parquet, .h5, .mat)."
+        ),
+        click.option("--format", "out_format", type=click.Choice(FORMATS), help="Output format (default: suffix)."),
+        click.option("--euler", "seq", default="ZYX", show_default=True, help="Euler sequence of the angle columns."),
+        click.option("--no-euler", is_flag=True, help="Write no Euler angles."),
+        click.option("--radians", is_flag=True, help="Angles (and bias) in radians instead of degrees."),
+        click.option(
+            "--yaw-range",
+            type=click.Choice(["signed", "positive"]),
+            help="Outer angle in (-180, 180] or [0, 360) (default: positive for ZYX, Gajda's).",
+        ),
+        click.option("--no-bias", is_flag=True, help="Leave out the estimated gyro bias.") if bias else None,
+        click.option("--no-flags", is_flag=True, help="Leave out the estimator's flags.") if bias else None,
+        click.option(
+            "--chunk-rows", default=CHUNK_ROWS, show_default=True, help="Rows read and written at a time (memory)."
+        ),
+        click.option("-q", "--quiet", is_flag=True, help="No progress bar, no summary."),
+    ]
+    for opt in reversed([o for o in opts if o is not None]):
+        f = opt(f)
+    return f
+
+
+def flight_options(gyro_option: str, gyro_default: str):
+    """Scenario, sample rate, gyro sample kind, IMU grade and seed: what compare and simulate fly."""
+    import click
+
+    opts = [
+        click.option(
+            "--scenario",
+            type=click.Choice(list(scenarios())),
+            default="hammerhead-loop",
+            show_default=True,
+            help="What is flown.",
+        ),
+        click.option("--rate", default=100.0, show_default=True, help="Sample rate, Hz."),
+        click.option(
+            gyro_option,
+            type=click.Choice(["rate", "average", "increment", "rotvec"]),
+            default=gyro_default,
+            show_default=True,
+            help="What a gyro sample is.",
+        ),
+        click.option(
+            "--imu",
+            type=click.Choice(["ideal", "consumer", "tactical"]),
+            default="ideal",
+            show_default=True,
+            help="Errors.",
+        ),
+        click.option("--seed", default=0, show_default=True, help="Seed of the sensor errors."),
+    ]
+
+    def apply(f):
+        for opt in reversed(opts):
+            f = opt(f)
+        return f
+
+    return apply
+
+
+def estimate_output_options(f):
+    return output_options(f, bias=True)
+
+
+def parse_q0(text: str | None, option: str = "--q0"):
+    """An initial attitude from the command line: w,x,y,z, or yaw,pitch,roll in degrees (ZYX)."""
+    import click
+
+    if not text:
+        return None
+    try:
+        values = [float(v) for v in text.replace(" ", ",").split(",") if v]
+    except ValueError:
+        raise click.BadParameter(f"expected numbers, got {text!r}", param_hint=option) from None
+    if len(values) == 4:
+        return values
+    if len(values) == 3:
+        from ..euler import from_euler
+
+        return from_euler(values, "ZYX", degrees=True).tolist()
+    raise click.BadParameter("give 4 numbers (w,x,y,z) or 3 (yaw,pitch,roll in degrees)", param_hint=option)
+
+
+def columns_spec(p: dict, extra=()):
+    import click
+
+    from ..io import ImuColumns
+
+    max_gap = p.get("max_gap", 10.0)
+    if not max_gap >= 0:  # NaN included
+        raise click.BadParameter(f"sample periods >= 0 (0: no check), got {max_gap}", param_hint="--max-gap")
+    # topics only when given: readers without them (a CSV) keep their ImuColumns fields
+    topics = {k: p[k] for k in ("topic", "mag_topic") if p.get(k)}
+    return ImuColumns(
+        **topics,
+        gyro=p.get("gyro"),
+        acc=p.get("acc"),
+        mag=p.get("mag"),
+        time=p.get("time_col"),
+        rate=p.get("rate"),
+        gyro_unit=p.get("gyro_unit"),
+        acc_unit=p.get("acc_unit"),
+        mag_unit=p.get("mag_unit"),
+        time_unit=p.get("time_unit"),
+        extra=tuple(extra),
+        max_gap=max_gap,
+        unit_check=not p.get("no_unit_check", False),
+        format=p.get("in_format"),
+    )
+
+
+def output_spec(p: dict):
+    import click
+
+    from ..io import Angles, OutputSpec
+
+    try:
+        angles = Angles(p.get("seq") or "ZYX", degrees=not p.get("radians"), yaw_range=p.get("yaw_range"))
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--euler") from None
+    return OutputSpec(
+        euler=not p.get("no_euler"),
+        angles=angles,
+        bias=not p.get("no_bias"),
+        flags=not p.get("no_flags"),
+        format=p.get("out_format"),
+    )
+
+
+class Progress:
+    """A tqdm bar on stderr that appears after a second, only on a terminal; a callable (done, total)."""
+
+    def __init__(self, quiet: bool, unit: str = "rows"):
+        self.quiet = quiet
+        self.unit = unit
+        self.bar = None
+
+    def __call__(self, done: int, total: int | None) -> None:
+        if self.quiet:
+            return
+        if self.bar is None:
+            try:
+                from tqdm import tqdm
+            except ImportError:  # no bar without tqdm; the command works the same
+                self.quiet = True
+                return
+            self.bar = tqdm(total=total, unit=self.unit, unit_scale=True, delay=1.0, disable=None, file=sys.stderr)
+        self.bar.update(done - self.bar.n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def run_file(function, path, output, kwargs: dict, quiet: bool) -> None:
+    """Run one file command: progress bar, summary line, and bad input as a one-line error (exit 1)."""
+    import click
+
+    bar = Progress(quiet)
+    try:
+        report = function(path, output, progress=bar, **kwargs)
+    except (ValueError, OSError, ImportError, RuntimeError) as exc:
+        bar.close()
+        raise click.ClickException(str(exc)) from None
+    bar.close()
+    if not quiet and report.read:
+        click.echo(f"read: {report.read}", err=True)
+    for note in report.notes:
+        if not quiet or note.startswith("warning:"):  # a warning is said even with -q
+            click.echo(note, err=True)
+    if not quiet:
+        outputs = getattr(report, "outputs", None) or [report.output]
+        more = f" in {len(outputs)} files: {', '.join(map(str, outputs))}" if len(outputs) > 1 else ""
+        click.echo(f"written: {report.output} ({report.rows} rows{more}, {report.seconds:.2f} s)")
+
+
+def input_argument():
+    import click
+
+    return click.argument("path", metavar="INPUT", type=click.Path(exists=True, dir_okay=False))
+
+
+def inputs_argument():
+    """One recording: a file, several files (one per sensor), or an export folder."""
+    import click
+
+    return click.argument("paths", metavar="INPUT...", nargs=-1, required=True, type=click.Path(exists=True))
+
+
+def one_or_many(paths):
+    """The path, or the list of paths of one recording given as several files."""
+    return paths[0] if len(paths) == 1 else list(paths)
+
+
+def frame_options(f, *, integrate: bool = False):
+    """--frame, --body and --out-body: the reference frame and the axes of readings and attitudes."""
+    import click
+
+    frame_help = (
+        "Reference frame that --q0 is in (default: the body axes at the first sample)."
+        if integrate
+        else "Reference frame of the output (default: the format's preset, e.g. NED for a PX4 log; else ENU)."
+    )
+    opts = [
+        click.option("--frame", type=click.Choice(FRAMES, case_sensitive=False), help=frame_help),
+        click.option(
+            "--body",
+            metavar="AXES",
+            help="Axes of the readings: FRD (PX4, ArduPilot), FLU (ROS REP 103), RFU (Android), ... "
+            "(default: the format's preset, else those of the output).",
+        ),
+        click.option(
+            "--out-body",
+            metavar="AXES",
+            help="Body axes of the output attitudes (default: FRD with NED, FLU with ENU and NWU: level is zero).",
+        ),
+    ]
+    for opt in reversed(opts):
+        f = opt(f)
+    return f
+
+
+def input_formats():
+    from ..io import readers
+
+    return list(getattr(readers, "INPUT_FORMATS", FORMATS))
+
+
+def is_number(text: str) -> bool:
+    return isinstance(parse_value(text), float)
+
+
+def parse_value(text: str):
+    """A parameter value from the command line: a number when it reads as one, else the text."""
+    text = text.strip()
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def assignment(text: str, option: str, raw: bool = False):
+    import click
+
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip() or not value.strip():
+        raise click.BadParameter(f"expected NAME=VALUE, got {text!r}", param_hint=option)
+    return name.strip(), (value if raw else parse_value(value))
+
+
+def estimators():
+    from ..evaluate import ESTIMATORS
+
+    return ESTIMATORS
+
+
+def methods():
+    from ..integrate import METHODS
+
+    return list(METHODS)
+
+
+def representations():
+    from ..io.tables import REPRESENTATIONS
+
+    return REPRESENTATIONS
+
+
+def scenarios():
+    from ..simulate.scenarios import SCENARIOS
+
+    return SCENARIOS
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Estimator parameters on the command line, in the library's units or in degrees with the unit in the name.
+
+_DEG_SUFFIXES = ("_deg_s", "_dps", "_deg")  # longest first: bias_limit_deg_s is bias_limit in deg/s
+_RAD_SUFFIXES = ("_rad_s", "_rad")
+_UNIT_IN_DOC = r",\s*(rad/s·√s|rad/s|rad|1/s²|1/s|1/√s|√s|m/s²|µT|s)(?![\w/])"
+
+
+def param_units(estimator: str) -> dict[str, str]:
+    """Parameter name -> its unit as the parameter class documents it ("rad/s", "s", "1/s", "" when unstated)."""
+    import dataclasses
+    import re
+
+    cls = estimators()[estimator][1]
+    doc = cls.__doc__ or ""
+    units = {}
+    for f in dataclasses.fields(cls):
+        m = re.search(rf"^\s*{f.name}\s*:.*\n((?:\s{{8,}}.*\n?)*)", doc, re.M)
+        # numpydoc "name : float / Description, unit (default ...)": the first ", <unit>" of the description
+        u = re.search(_UNIT_IN_DOC, " ".join(m.group(1).split())) if m else None
+        units[f.name] = u.group(1) if u else ""
+    return units
+
+
+def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
+    """``NAME=VALUE`` options as parameters: ``bias_limit_deg_s=5`` (degrees, unit in the name), ``bias_limit=0.087``.
+
+    A name ending in ``_deg``, ``_deg_s`` or ``_dps`` gives a parameter that the library takes in radians (rad,
+    rad/s, rad/s·√s) in degrees instead, the unit of the outputs; ``_rad`` and ``_rad_s`` say radians.
+    """
+    import math
+
+    import click
+
+    units = param_units(estimator)
+    out = {}
+    for text in assignments or ():
+        name, value = assignment(text, option)
+        base, scale = name, None
+        for suffix, factor in [(s, math.pi / 180) for s in _DEG_SUFFIXES] + [(s, 1.0) for s in _RAD_SUFFIXES]:
+            if name.endswith(suffix) and name[: -len(suffix)] in units:
+                base, scale = name[: -len(suffix)], factor
+                break
+        if scale is not None:
+            if not units[base].startswith("rad"):
+                raise click.BadParameter(
+                    f"{base} of {estimator} is in {units[base] or 'no angular unit'}, not an angle or a rate: "
+                    f"write {base}=VALUE",
+                    param_hint=option,
+                )
+            if not isinstance(value, float):
+                raise click.BadParameter(f"{name} takes a number, got {value!r}", param_hint=option)
+            value = value * scale
+        if base in out:
+            raise click.BadParameter(f"{base} is given twice", param_hint=option)
+        out[base] = value
+    return out
+
+
+def list_params(estimator: str) -> str:
+    """A table of an estimator's parameters: name, default, unit, and the default in degrees where angular."""
+    import dataclasses
+    import math
+
+    cls = estimators()[estimator][1]
+    units = param_units(estimator)
+    lines = [f"{estimator} parameters (-p NAME=VALUE; angles and rates also as -p NAME_deg=... / NAME_deg_s=...):"]
+    for f in dataclasses.fields(cls()):
+        value = getattr(cls(), f.name)
+        unit = units.get(f.name, "")
+        deg = ""
+        if unit.startswith("rad") and isinstance(value, float):
+            suffix = "_deg" if unit == "rad" else "_deg_s"
+            deg = f"    = {f.name}{suffix}={math.degrees(value):.6g}"
+        shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+        lines.append(f"  {f.name:24} {shown:>14} {unit:10}{deg}")
+    return "\n".join(lines)
+
+
+def writable_folder(folder, option: str) -> None:
+    """Refuse a folder that cannot be written before anything is computed (created when missing)."""
+    import os
+    from pathlib import Path
+
+    import click
+
+    path = Path(folder)
+    probe = path
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise click.BadParameter(f"cannot write into {path} ({probe} is not a writable folder)", param_hint=option)
+
+
+def writable_file(file, option: str) -> None:
+    """Refuse an output file that cannot be written (its folder, or the file itself, read-only) before computing."""
+    import os
+    from pathlib import Path
+
+    import click
+
+    path = Path(file)
+    if path.exists() and not os.access(path, os.W_OK):
+        raise click.BadParameter(f"cannot write {path}: it is read-only", param_hint=option)
+    writable_folder(path.parent if str(path.parent) else ".", option)
+
+
+#: Rows a simulation may write at most: 10^8 rows of 17 columns are about 14 GB in memory.
+MAX_SIMULATED_ROWS = 100_000_000

@@ -1,0 +1,88 @@
+"""``strapdown compare``: every propagation method on a simulated scenario."""
+
+from __future__ import annotations
+
+import click
+
+from ._options import flight_options, writable_folder
+
+
+@click.command()
+@flight_options("--gyro", "increment")
+@click.option("--methods", default=None, help="Comma-separated subset of the methods (default: all).")
+@click.option("--out", default=None, type=click.Path(file_okay=False), help="Write PNG plots to this directory.")
+@click.option(
+    "--log",
+    type=click.Path(exists=True),
+    help="A recording with its own attitude (a PX4 log's vehicle_attitude) instead of a simulation: its gyro "
+    "integrated by each method from the logged attitude, against the logged attitude.",
+)
+@click.option("--topic", metavar="NAME", help="With --log: the IMU topic (default: the format's).")
+def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
+    """Run every propagation method on a simulated scenario and print the comparison table.
+
+    \b
+    Examples:
+      strapdown compare
+      strapdown compare --scenario coning --rate 200 --gyro increment
+      strapdown compare --scenario aerobatic-show --imu consumer --gyro average --out plots/
+      strapdown compare --methods exact,rk4,euler-angles
+      strapdown compare --log flight.ulg                       # against the log's own vehicle_attitude
+    """
+    from pathlib import Path
+
+    from .. import METHODS
+    from ..compare import compare as run_compare
+    from ..simulate import ImuModel, sample
+    from ..simulate.scenarios import scenario as make
+
+    if not rate > 0:
+        raise click.BadParameter("must be positive", param_hint="--rate")
+    if out:
+        writable_folder(out, "--out")  # before the computation, not after it
+    chosen = None
+    if methods:
+        chosen = [m.strip() for m in methods.split(",") if m.strip()]
+        unknown = [m for m in chosen if m not in METHODS]
+        if unknown:
+            raise click.BadParameter(
+                f"unknown {', '.join(unknown)}; choose from {', '.join(METHODS)}", param_hint="--methods"
+            )
+    if log:
+        try:
+            data, title = _logged(log, topic)
+        except (ValueError, OSError, ImportError) as exc:
+            raise click.ClickException(str(exc)) from None
+        scenario = Path(log).stem
+    else:
+        model = {"ideal": ImuModel.ideal, "consumer": ImuModel.consumer_mems, "tactical": ImuModel.tactical}[imu]()
+        data = sample(make(scenario), rate, gyro=gyro, imu=model, seed=seed)
+        title = f"{scenario}, {imu} IMU, {gyro} gyro at {rate:g} Hz"
+    result = run_compare(data, chosen, title=title)
+    click.echo(result.table())
+    if out:
+        for path in result.plot(out, prefix=scenario.replace("-", "_")):
+            click.echo(f"written: {path}")
+
+
+def _logged(path, topic):
+    """A recording's gyro with its own attitude as the truth, as the ImuData that compare takes."""
+    import numpy as np
+
+    from ..io import ImuColumns, read_imu, read_reference
+    from ..simulate.sampling import ImuData
+
+    columns = ImuColumns(topic=topic, max_gap=0) if topic else ImuColumns(max_gap=0)
+    imu = read_imu(path, columns)
+    ref = read_reference(path, topic=topic)
+    inside = (imu.t >= ref.t[0]) & (imu.t <= ref.t[-1])  # where the log's attitude says something
+    if inside.sum() < 2:
+        raise ValueError(f"{path}: the logged attitude ({ref.source}) does not cover the gyro's samples")
+    t, g = imu.t[inside], imu.gyro[inside]
+    q_true = ref.at(t)
+    rate = 1.0 / float(np.median(np.diff(t)))
+    empty = np.zeros((t.size - 1, 3))
+    # row k's rate acts from t[k] to t[k+1] (the library's convention): N rows give N - 1 steps
+    data = ImuData(t, g[:-1], empty, empty, q_true, "rate", ref.frame or "?", ref.body or "?", rate, t)
+    title = f"{path}: {t.size} gyro rows at {rate:.4g} Hz against {ref.source}, {t[-1] - t[0]:.1f} s"
+    return data, title

@@ -1,0 +1,26 @@
+"""``strapdown demo``: the worked examples, printed, with plots and a CSV."""
+
+from __future__ import annotations
+
+import click
+
+from ._options import writable_folder
+
+
+@click.command()
+@click.option("--out", default="out", show_default=True, type=click.Path(file_okay=False), help="Output directory.")
+def command(out):
+    """Print the worked examples and write plots and a CSV to OUT.
+
+    Gajda's algorithm on a 360 deg roll, his conclusions tested on a hammerhead + loop, and an aerobatic
+    show flown with a consumer MEMS IMU and integrated by every method.
+
+    \b
+    Examples:
+      strapdown demo
+      strapdown demo --out /tmp/strapdown-demo
+    """
+    from ..demo import run
+
+    writable_folder(out, "--out")  # before the computation, not after it
+    run(out, echo=click.echo)

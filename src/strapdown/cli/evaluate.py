@@ -1,0 +1,95 @@
+"""``strapdown evaluate``: an estimator over the BROAD benchmark trials, with an optional grid search."""
+
+from __future__ import annotations
+
+import click
+
+from ._options import assignment, estimators, parse_params, parse_value, writable_file
+
+
+@click.command()
+@click.argument("folder", type=click.Path(exists=True, file_okay=False))
+@click.option("-e", "--estimator", type=click.Choice(list(estimators())), default="tilt", show_default=True)
+@click.option("--9d", "nine_d", is_flag=True, help="Give the estimator the magnetometer.")
+@click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE", help="Set a parameter (repeatable).")
+@click.option("-g", "--grid", multiple=True, metavar="NAME=V1,V2,...", help="Grid-search these values (repeatable).")
+@click.option(
+    "--objective",
+    type=click.Choice(["inclination", "total", "heading"]),
+    default="inclination",
+    show_default=True,
+    help="Mean RMSE the grid search ranks on.",
+)
+@click.option(
+    "--start",
+    type=click.Choice(["first-sample", "broad-example"]),
+    default="first-sample",
+    show_default=True,
+    help="Initial attitude: the estimator's own, or BROAD's example code's (9D, to reproduce it).",
+)
+@click.option("--trials", default=None, help="Comma-separated trial names (default: every .mat in FOLDER).")
+@click.option("--keep-heading-offset", is_flag=True, help="In 6D, do not remove the mean heading offset.")
+@click.option("--csv", "csv_path", default=None, type=click.Path(dir_okay=False), help="Write per-trial rows here.")
+def command(folder, estimator, nine_d, params, grid, objective, start, trials, keep_heading_offset, csv_path):
+    """Run an estimator over the BROAD trials in FOLDER with one parameter set; print RMSE per trial and group.
+
+    Errors follow the BROAD protocol (total, heading and inclination RMSE over the movement phases, in
+    degrees).  With --grid, every combination is evaluated and ranked instead.
+
+    \b
+    Examples:
+      strapdown evaluate broad/data_mat
+      strapdown evaluate broad/data_mat -e mahony --9d -p kp=0.5 -p ki=0.001
+      strapdown evaluate broad/data_mat -e madgwick --9d -p beta=0.12 -p variant=reference --start broad-example
+      strapdown evaluate broad/data_mat -e tilt -g tau_acc=1,2,3 -g tau_bias=50,100
+    """
+    from ..broad import load_trials
+    from ..evaluate import evaluate as run_evaluate
+    from ..evaluate import grid_search
+
+    fixed = parse_params(estimator, params)
+    if csv_path:
+        writable_file(csv_path, "--csv")
+    ranges = {}
+    for a in grid:
+        name, value = assignment(a, "--grid", raw=True)
+        values = [parse_value(v) for v in value.split(",") if v.strip()]
+        defaults = _defaults(estimator)
+        if name in defaults and not isinstance(defaults[name], str):
+            words = [v for v in values if not isinstance(v, float)]
+            if words:
+                raise click.BadParameter(
+                    f"{name} takes numbers, got {', '.join(map(repr, words))}", param_hint="--grid"
+                )
+        ranges[name] = values
+    names = [t.strip() for t in trials.split(",") if t.strip()] if trials else None
+    heading = False if keep_heading_offset else None
+    try:
+        data = load_trials(folder, names)
+        if ranges:
+            found = grid_search(
+                estimator,
+                data,
+                ranges,
+                params=fixed,
+                mag=nine_d,
+                start=start,
+                objective=objective,
+                heading_offset=heading,
+            )
+            click.echo(found.table())
+            return
+        result = run_evaluate(estimator, data, params=fixed, mag=nine_d, start=start, heading_offset=heading)
+    except (ValueError, FileNotFoundError) as exc:
+        raise click.UsageError(str(exc)) from None
+    click.echo(result.table())
+    if csv_path:
+        result.to_csv(csv_path)
+        click.echo(f"written: {csv_path}")
+
+
+def _defaults(estimator: str) -> dict:
+    import dataclasses
+
+    params = estimators()[estimator][1]()
+    return {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}

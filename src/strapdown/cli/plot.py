@@ -1,0 +1,73 @@
+"""``strapdown plot``: PNG figures of an attitude file."""
+
+from __future__ import annotations
+
+import click
+
+from ._options import input_argument
+
+
+@click.command()
+@input_argument()
+@click.option(
+    "--truth",
+    type=click.Path(exists=True, dir_okay=False),
+    help="File with the true attitude: a simulated log, a qw..qz table, a PX4 log (its vehicle_attitude).",
+)
+@click.option("--truth-frame", metavar="FRAME", help="The truth's reference frame, when its file does not say it.")
+@click.option("--truth-body", metavar="AXES", help="The truth's body axes, when its file does not say them.")
+@click.option("--out", type=click.Path(file_okay=False), help="Folder of the figures (default: beside INPUT).")
+@click.option("--euler", "seq", default="ZYX", show_default=True, help="Euler sequence of the angle figure.")
+@click.option("--radians", is_flag=True)
+@click.option("--yaw-range", type=click.Choice(["signed", "positive"]))
+@click.option(
+    "--max-points",
+    default=200_000,
+    show_default=True,
+    type=click.IntRange(min=2),
+    help="Rows drawn at most (thinned evenly).",
+)
+def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, max_points):
+    """Write PNG figures of an attitude file: Euler angles, errors against --truth, and the gyro bias.
+
+    With --truth, the frames are checked first: the reference frame and body axes that the estimate's file
+    records against those of the truth (its metadata, a PX4 log's NED/FRD, or --truth-frame and --truth-body).
+    A truth in other frames is re-expressed in the estimate's, and said so; frames that a file does not record
+    are refused, not guessed.  A truth at other instants (a log's own estimator) is interpolated onto the
+    estimate's rows.
+
+    \b
+    Examples:
+      strapdown plot flight.integrate.csv
+      strapdown plot att.parquet --truth sim.parquet --out figures/
+      strapdown plot flight.estimate.csv --truth flight.ulg           # the log's own vehicle_attitude
+      strapdown plot att.csv --truth ref.csv --truth-frame ENU --truth-body FLU
+      strapdown plot att.csv --euler ZXY --yaw-range signed
+    """
+    from pathlib import Path
+
+    from .._files import scratch_dir
+    from ..io import Angles
+    from ..io.plots import plot_file
+
+    angles = Angles(seq, not radians, yaw_range)
+    folder = Path(out) if out else Path(path).parent
+    try:
+        if truth is None:
+            written = plot_file(path, None, folder, angles=angles, max_points=max_points)
+        else:
+            from ..io.truth import align_truth, write_aligned
+
+            aligned = align_truth(path, truth, truth_frame=truth_frame, truth_body=truth_body)
+            if aligned.note:
+                click.echo(f"truth: {aligned.note}", err=True)
+            if not aligned.changed:
+                written = plot_file(path, truth, folder, angles=angles, max_points=max_points)
+            else:
+                with scratch_dir(folder / Path(path).name) as scratch:
+                    est, ref = write_aligned(aligned, path, truth, scratch)
+                    written = plot_file(est, ref, folder, angles=angles, max_points=max_points)
+    except (ValueError, OSError, ImportError) as exc:
+        raise click.ClickException(str(exc)) from None
+    for f in written:
+        click.echo(f"written: {f}")

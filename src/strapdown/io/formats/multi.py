@@ -1,0 +1,442 @@
+"""Several files of one recording (one file per sensor), merged on the gyro's rows without resampling it.
+
+Each file is read whole (phone and lab exports are small), its sensor told by its name (``Gyroscope.csv``,
+``accel.csv``, ``Magnetometer.csv``, ...) or else by its columns, its time column by name (``time``,
+``Time (s)``, ``timestamp``).  Times are put on one clock exactly: integer columns count from their own first
+value in integers, and the offsets between the files' first values are integers too.  Then the accelerometer and
+magnetometer samples go to the nearest gyro rows (:mod:`strapdown.io.merge`); the rows they miss are NaN.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import tempfile
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..columns import describe_fields, detect_time, detect_vector
+from ..merge import place_on_rows
+from ..registry import Format, register
+from ..source import MemorySource, Source, TimeOrigin
+from ..timebase import check_period, infer_time_unit, origin_of
+from ..units import parse_unit
+
+__all__ = ["Stream", "kind_of_file", "merge_streams", "open_files", "read_stream"]
+
+_NAMES = {
+    "gyro": re.compile(r"gyr|rotationrate|angular", re.IGNORECASE),
+    "acc": re.compile(r"acc|specificforce", re.IGNORECASE),
+    "mag": re.compile(r"mag|compass", re.IGNORECASE),
+}
+_PER_S = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+#: Largest total size of the files taken out of one zip, bytes (a zip bomb stops here).
+MAX_UNZIPPED_BYTES = 4 << 30
+
+
+def kind_of_file(name: str) -> str | None:
+    """The sensor a file holds by its name, or None (``"Gyroscope.csv"`` -> ``"gyro"``).
+
+    Parameters
+    ----------
+    name : str
+        The file name.
+
+    Returns
+    -------
+    str or None
+        ``"gyro"``, ``"acc"`` or ``"mag"``.
+
+    Examples
+    --------
+    >>> from strapdown.io.formats.multi import kind_of_file
+    >>> kind_of_file("Gyroscope.csv"), kind_of_file("TotalAcceleration.csv"), kind_of_file("notes.csv")
+    ('gyro', 'acc', None)
+    """
+    found = [k for k, pattern in _NAMES.items() if pattern.search(Path(name).stem)]
+    return found[0] if len(found) == 1 else None
+
+
+@dataclass
+class Stream:
+    """One sensor's samples from one file: times on the file's clock and (n, 3) values as read.
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        The file.
+    kind : str
+        ``"gyro"``, ``"acc"`` or ``"mag"``.
+    fields : tuple of str
+        The three columns read.
+    unit : str or None
+        Their unit when the file states it.
+    time_field : str
+        The time column.
+    t : numpy.ndarray
+        Times from the file's first one, in its unit (float64; exact for integers).
+    first : int or float
+        The first time value as written.
+    integer : bool
+        The time column holds integers.
+    values : numpy.ndarray, shape (n, 3)
+        The samples.
+    qualified : bool
+        The field names already say where they come from (a bag's ``topic/field``); else the file's name is
+        put in front.
+    """
+
+    path: Path
+    kind: str
+    fields: tuple
+    unit: str | None
+    time_field: str
+    t: np.ndarray
+    first: int | float
+    integer: bool
+    values: np.ndarray
+    qualified: bool = False
+
+
+def read_stream(src: Source, kind: str | None = None, time: str | None = None) -> Stream:
+    r"""One sensor's samples from an open table that holds one sensor (``time, x, y, z`` and the like).
+
+    Parameters
+    ----------
+    src : Source
+        The open file.
+    kind : {"gyro", "acc", "mag"}, optional
+        Its sensor; by default from the file name, else from the columns.
+    time : str, optional
+        The time column; by default detected (``time`` is preferred when several look like time).
+
+    Returns
+    -------
+    Stream
+        The samples.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from strapdown.io import open_source
+    >>> from strapdown.io.formats.multi import read_stream
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "Gyroscope.csv"
+    >>> _ = path.write_text("time,z,y,x\n1700000000000000000,0.3,0.2,0.1\n1700000000010000000,0.3,0.2,0.1\n")
+    >>> s = read_stream(open_source(path))
+    >>> s.kind, s.fields, s.t, s.values[0]
+    ('gyro', ('x', 'y', 'z'), array([       0., 10000000.]), array([0.1, 0.2, 0.3]))
+    """
+    fields = src.fields
+    kind = kind or kind_of_file(src.path.name)
+    candidates = (kind,) if kind else ("gyro", "acc", "mag")
+    pick = None
+    for k in candidates:
+        pick = detect_vector(k, fields, units=src.units, bare=kind is not None)
+        if pick is not None:
+            kind = k
+            break
+    if pick is None:
+        raise ValueError(
+            f"{src.path}: cannot tell which columns hold the {kind or 'gyro, accelerometer or magnetometer'} "
+            f"readings (looked for x,y,z and names like gyro_x); it has: {describe_fields(fields)}"
+        )
+    if time is None:
+        times = [n for n in fields if n.strip().lower() == "time"]
+        time = times[0] if times else None
+    if time is None:
+        found = detect_time(fields)
+        if found is None:
+            raise ValueError(
+                f"{src.path}: no time column (looked for time, t, timestamp, ...); it has: {describe_fields(fields)}"
+            )
+        time = found.fields[0]
+    integer = time in src.integers and not src.is_timestamp(time)
+    parts = list(src.chunks([time, *pick.fields], 1 << 20, relative=(time,) if integer else ()))
+    cat = {n: np.concatenate([p[n] for _, p in parts]) if parts else np.zeros(0) for n in (time, *pick.fields)}
+    t = cat[time]
+    first = int(src.origins[time]) if integer and time in src.origins else (float(t[0]) if t.size else 0.0)
+    if not integer and t.size:
+        t = t - t[0]
+    unit = pick.unit_hint or next((src.units[f] for f in pick.fields if f in src.units), None)
+    unit = parse_unit(kind, unit, strict=False) if unit else None
+    values = np.column_stack([cat[f] for f in pick.fields])
+    return Stream(src.path, kind, pick.fields, unit, time, t, first, integer, values)
+
+
+def _time_unit(stream: Stream, declared: str | None, time_hint: str | None) -> tuple[str, str | None]:
+    steps = np.diff(stream.t[: 1 << 14])
+    step = float(np.median(steps)) if steps.size else 0.0
+    if declared:
+        unit = parse_unit("time", declared)
+    elif time_hint:
+        unit = time_hint
+    elif stream.integer and step:
+        unit = infer_time_unit(step, stream.first, stream.time_field, str(stream.path))[0]
+    else:
+        unit = "s"
+    if step:
+        check_period(step, unit, stream.time_field, str(stream.path))
+    return unit, None
+
+
+def merge_streams(
+    label: Path, streams: dict, format: str, time_unit: str | None = None, origin_kind: str | None = None
+) -> MemorySource:
+    """One table on the gyro's rows from one stream per sensor (:func:`read_stream`).
+
+    Parameters
+    ----------
+    label : pathlib.Path
+        What the recording is called in messages (the folder, zip or first file).
+    streams : dict of str to Stream
+        ``"gyro"`` (required), ``"acc"``, ``"mag"``.
+    format : str
+        The format's name.
+    time_unit : str, optional
+        The unit of the files' time columns (else read from the header, or inferred for integers).
+    origin_kind : str, optional
+        What the clock is (``"epoch"``), when the format documents it.
+
+    Returns
+    -------
+    MemorySource
+        Fields ``t`` (s from the first gyro sample) and the sensors' columns, named ``file/column``.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib
+    >>> from strapdown.io.formats.multi import Stream, merge_streams
+    >>> g = Stream(pathlib.Path("g.csv"), "gyro", ("x", "y", "z"), "rad/s", "t", np.arange(4) * 0.01, 0.0,
+    ...            False, np.zeros((4, 3)))
+    >>> m = Stream(pathlib.Path("m.csv"), "mag", ("x", "y", "z"), "uT", "t", np.array([0.011]), 0.0, False,
+    ...            np.ones((1, 3)))
+    >>> src = merge_streams(pathlib.Path("rec"), {"gyro": g, "mag": m}, "files")
+    >>> src.presets["mag"], src.sparse == {"m.csv/x", "m.csv/y", "m.csv/z"}
+    (('m.csv/x', 'm.csv/y', 'm.csv/z'), True)
+    """
+    if "gyro" not in streams:
+        have = ", ".join(f"{s.path.name} ({k})" for k, s in streams.items()) or "no sensor files"
+        raise ValueError(f"{label}: no gyroscope file among {have}; strapdown needs the gyro")
+    gyro = streams["gyro"]
+    hint = next((u for u in (_hint(gyro.time_field),) if u), None)
+    unit, _ = _time_unit(gyro, time_unit, hint)
+    per_s = _PER_S[unit]
+    cols: dict[str, np.ndarray] = {"t": gyro.t * per_s}
+    src_presets, sparse, units = {"time": ("t",)}, set(), {}
+    for kind, stream in streams.items():
+        names = stream.fields if stream.qualified else tuple(f"{stream.path.name}/{f}" for f in stream.fields)
+        if kind == "gyro":
+            values = stream.values
+        else:
+            if stream.integer != gyro.integer:
+                what = "integer" if stream.integer else "float"
+                raise ValueError(
+                    f"{stream.path}: its time column {stream.time_field!r} is {what} but the gyro file's is not; "
+                    "the files must share a clock"
+                )
+            offset = stream.first - gyro.first  # exact for integers: both are Python ints
+            values = place_on_rows(gyro.t, stream.t + offset, stream.values)
+            if np.isnan(values).all(axis=1).any():
+                sparse.update(names)
+        for i, n in enumerate(names):
+            cols[n] = values[:, i]
+            if stream.unit:
+                units[n] = stream.unit
+        src_presets[kind] = names
+    src = MemorySource(label, cols, format)
+    src.presets, src.sparse, src.units = src_presets, sparse, units
+    kind = origin_kind or origin_of(gyro.first, unit).kind
+    src.time_origin = TimeOrigin(gyro.first, unit, kind)
+    return src
+
+
+def _hint(name: str) -> str | None:
+    from ..columns import split_name
+
+    return split_name(name, "time")[1]
+
+
+def open_streams(paths, kinds: dict | None = None) -> dict:
+    """The sensor streams of several files, one per sensor: ``{"gyro": Stream, ...}``.
+
+    Parameters
+    ----------
+    paths : sequence of pathlib.Path
+        The files.
+    kinds : dict of pathlib.Path to str, optional
+        The sensor of a file when its name does not tell it.
+
+    Returns
+    -------
+    dict of str to Stream
+        By sensor.
+
+    Examples
+    --------
+    >>> from strapdown.io.formats.multi import open_streams
+    >>> open_streams([])
+    {}
+    """
+    from ..readers import open_source
+
+    streams = {}
+    for p in paths:
+        with open_source(p) as src:
+            s = read_stream(src, (kinds or {}).get(p))
+        if s.kind in streams:
+            raise ValueError(f"{p} and {streams[s.kind].path} both hold {s.kind} readings; give one file per sensor")
+        streams[s.kind] = s
+    return streams
+
+
+def open_files(paths, format: str | None = None, time_unit: str | None = None, **options) -> MemorySource:
+    r"""Several files of one recording as one table (see the module's description).
+
+    Parameters
+    ----------
+    paths : sequence of pathlib.Path
+        The files (one per sensor), in any order.
+    format : str, optional
+        ``"files"`` or None (the other formats take one path).
+    time_unit : str, optional
+        The unit of the files' time columns.
+    **options
+        None accepted.
+
+    Returns
+    -------
+    MemorySource
+        The merged readings.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from strapdown.io import open_source
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "gyr.csv").write_text("t,x,y,z\n0.00,0,0,0\n0.01,0,0,0\n0.02,0,0,0\n")
+    >>> _ = (folder / "acc.csv").write_text("t,x,y,z\n0.012,0,0,9.8\n")
+    >>> src = open_source([folder / "gyr.csv", folder / "acc.csv"])
+    >>> src.rows, src.sparse == {"acc.csv/x", "acc.csv/y", "acc.csv/z"}
+    (3, True)
+    """
+    if format not in (None, "files"):
+        raise ValueError(f"several input files are read as one recording (format 'files'), not as {format!r}")
+    given = {k: v for k, v in options.items() if v is not None}
+    if given:
+        raise ValueError(f"several input files take no option {', '.join(sorted(given))}")
+    for p in paths:
+        if not p.is_file():
+            raise FileNotFoundError(f"no such file: {p}")
+    streams = open_streams(paths)
+    src = merge_streams(paths[0], streams, "files", time_unit=time_unit)
+    if all(first_line(p.parent, p.name).startswith("time,seconds_elapsed,z,y,x") for p in paths):
+        src.frame, src.body = "ENU", "RFU"  # Sensor Logger's files given one by one: Android's axes
+    return src
+
+
+class Unzipped:
+    """The members of a zip taken out into a temporary folder (removed on :meth:`close`), by base name only.
+
+    Only regular files are taken, under their base names (no ``../`` or absolute paths can escape), and their
+    declared sizes must stay under :data:`MAX_UNZIPPED_BYTES` together.
+    """
+
+    def __init__(self, path: Path, wanted):
+        self.folder = Path(tempfile.mkdtemp(prefix="strapdown-unzip-"))
+        try:
+            with zipfile.ZipFile(path) as z:
+                infos = [i for i in z.infolist() if not i.is_dir() and wanted(Path(i.filename).name)]
+                total = sum(i.file_size for i in infos)
+                if total > MAX_UNZIPPED_BYTES:
+                    raise ValueError(
+                        f"{path}: its files would expand to {total / 2**20:.1f} MiB, past the "
+                        f"{MAX_UNZIPPED_BYTES / 2**20:.0f} MiB read from a zip; unpack it and give the folder"
+                    )
+                for info in infos:
+                    target = self.folder / Path(info.filename).name
+                    with z.open(info) as f, open(target, "wb") as out:
+                        shutil.copyfileobj(f, out)
+        except BaseException:
+            self.close()
+            raise
+
+    def close(self) -> None:
+        """Remove the temporary folder."""
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def zip_names(path: Path) -> list[str]:
+    """The base names of a zip's files (empty for a file that is no zip)."""
+    try:
+        with zipfile.ZipFile(path) as z:
+            return [Path(i.filename).name for i in z.infolist() if not i.is_dir()]
+    except zipfile.BadZipFile:
+        return []
+
+
+register(
+    Format(
+        "files", lambda path, **o: open_files([Path(path)], **o), options=("time_unit",), description="several files"
+    )
+)
+
+
+def first_line(path: Path, name: str) -> str:
+    """The first line of the file ``name`` in a folder (or one of its subfolders) or a zip; "" if absent."""
+    if path.is_dir():
+        found = find_in_folder(path, name)
+        if found is None:
+            return ""
+        with open(found, encoding="utf-8-sig", errors="replace") as f:
+            return f.readline()
+    if zipfile.is_zipfile(path):
+        with zipfile.ZipFile(path) as z:
+            for info in z.infolist():
+                if Path(info.filename).name == name and not info.is_dir():
+                    with z.open(info) as f:
+                        return f.readline(4096).decode("utf-8-sig", errors="replace")
+    return ""
+
+
+def find_in_folder(folder: Path, name: str) -> Path | None:
+    """``folder/name``, or ``folder/*/name`` when the export sits one folder down."""
+    direct = folder / name
+    if direct.is_file():
+        return direct
+    return next((p for p in sorted(folder.glob(f"*/{name}")) if p.is_file()), None)
+
+
+class Export:
+    """The files of an export folder or zip, by name: :meth:`get` gives a readable path or None."""
+
+    def __init__(self, path: Path, names):
+        self.path = path
+        self._unzipped = Unzipped(path, lambda n: n in set(names)) if path.is_file() else None
+        self._folder = self._unzipped.folder if self._unzipped else path
+
+    def get(self, name: str) -> Path | None:
+        """The file ``name`` of the export, or None."""
+        return find_in_folder(self._folder, name)
+
+    def sensor_files(self, preferences: dict) -> dict:
+        """The first present of each sensor's file names, as ``{path: kind}``."""
+        chosen = {}
+        for kind, names in preferences.items():
+            found = next((p for p in map(self.get, names) if p is not None), None)
+            if found is not None:
+                chosen[found] = kind
+        return chosen
+
+    def close(self) -> None:
+        """Remove what was unzipped."""
+        if self._unzipped is not None:
+            self._unzipped.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()

@@ -1,0 +1,144 @@
+"""A reference (truth) attitude from a file: a flight log's own estimate or a table of quaternions.
+
+For ``plot --truth`` and ``compare``: :func:`read_reference` returns times, quaternions and their frames, on the
+same time line as :class:`~strapdown.io.ImuFile` reads the IMU of the same log, so that the two compare
+directly (:meth:`Reference.at` interpolates onto other times by slerp).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .source import TimeOrigin
+
+__all__ = ["Reference", "read_reference"]
+
+_QUATS = (("qw_true", "qx_true", "qy_true", "qz_true"), ("qw", "qx", "qy", "qz"))
+
+
+@dataclass
+class Reference:
+    """Attitudes from a file: ``q[k]`` maps body vectors to ``frame`` at ``t[k]``.
+
+    Attributes
+    ----------
+    t : numpy.ndarray, shape (n,)
+        Seconds, from the same origin as the IMU of the same file (``time_origin``).
+    q : numpy.ndarray, shape (n, 4)
+        [w, x, y, z], body to reference.
+    frame, body : str or None
+        The reference frame and body axes (``"NED"``, ``"FRD"`` for PX4), None when the file does not say.
+    time_origin : TimeOrigin or None
+        What t = 0 is.
+    source : str
+        Where the attitudes came from (``"vehicle_attitude"``, the column names).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    frame: str | None
+    body: str | None
+    time_origin: TimeOrigin | None
+    source: str
+
+    def at(self, t) -> np.ndarray:
+        """The reference attitude at times ``t`` (s, same origin), by slerp between its samples.
+
+        Parameters
+        ----------
+        t : array_like, shape (m,)
+            Times inside the reference's span.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m, 4)
+            Quaternions.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from strapdown.io.reference import Reference
+        >>> half = [np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)]
+        >>> ref = Reference(np.array([0.0, 1.0]), np.array([[1.0, 0, 0, 0], half]), "NED", "FRD", None, "q")
+        >>> np.degrees(2 * np.arccos(ref.at([0.5])[0, 0])).round(6)
+        np.float64(45.0)
+        """
+        from ..interpolate import resample
+
+        return resample(self.t, self.q, np.asarray(t, dtype=np.float64))
+
+
+def read_reference(path, format: str | None = None, topic: str | None = None) -> Reference:
+    """The reference attitude stored in a file: PX4's ``vehicle_attitude``, or ``qw..qz`` / ``qw_true..`` columns.
+
+    Parameters
+    ----------
+    path : path-like
+        A ULog, or a table with quaternion columns and a time column (a strapdown output, a simulated log).
+    format : str, optional
+        The input format, when the suffix does not tell it.
+    topic : str, optional
+        For a ULog: the IMU topic whose first sample is t = 0 (as :class:`~strapdown.io.ImuFile` reads it).
+
+    Returns
+    -------
+    Reference
+        Times, quaternions (normalised), frames.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import read_reference, write_table
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "truth.csv"
+    >>> one, zero = np.ones(2), np.zeros(2)
+    >>> _ = write_table(path, {"t": np.array([5.0, 5.01]), "qw": one, "qx": zero, "qy": zero, "qz": zero})
+    >>> ref = read_reference(path)
+    >>> ref.t, ref.source
+    (array([0.  , 0.01]), 'qw,qx,qy,qz')
+    """
+    from .readers import input_format, open_source, read_metadata
+
+    path = Path(path)
+    fmt = input_format(path, format)
+    if fmt == "ulog":
+        from .formats.ulog import read_attitude
+
+        t, q, origin = read_attitude(path, topic)
+        return Reference(t, _unit(q, path, "vehicle_attitude"), "NED", "FRD", origin, "vehicle_attitude")
+    from .columns import detect_time
+
+    with open_source(path, fmt) as src:
+        names = next((n for n in _QUATS if all(c in src.fields for c in n)), None)
+        if names is None:
+            raise ValueError(f"{path} has no attitude (qw_true.. or qw,qx,qy,qz); it has: {', '.join(src.fields)}")
+        time = detect_time(src.fields)
+        wanted = [*names, *(time.fields if time else ())]
+        parts = [cols for _, cols in src.chunks(wanted, 1 << 20)]
+    cols = {n: np.concatenate([p[n] for p in parts]) for n in wanted}
+    q = np.column_stack([cols[n] for n in names])
+    t = cols[time.fields[0]] if time else np.arange(q.shape[0], dtype=np.float64)
+    meta = read_metadata(path, fmt) if fmt in ("csv", "parquet", "hdf5", "mat") else {}
+    origin = None
+    if "time_origin" in meta:
+        value = meta["time_origin"]
+        origin = TimeOrigin(
+            int(value) if value.lstrip("-").isdigit() else float(value),
+            meta.get("time_origin_unit", "s"),
+            meta.get("time_origin_kind", "file"),
+        )
+    frame = meta.get("frame") or meta.get("reference_frame")
+    return Reference(
+        t - t[0] if t.size else t, _unit(q, path, ",".join(names)), frame, meta.get("body"), origin, ",".join(names)
+    )
+
+
+def _unit(q: np.ndarray, path: Path, what: str) -> np.ndarray:
+    n = np.linalg.norm(q, axis=1)
+    bad = ~(np.isfinite(n) & (np.abs(n - 1) < 1e-3))
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"{path}: {what} row {i} is not a unit quaternion (|q| = {n[i]:.6g})")
+    return q / n[:, None]

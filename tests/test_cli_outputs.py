@@ -1,0 +1,367 @@
+"""What the file commands write and how they are told about frames, gaps and parameters: the CLI as a subprocess.
+
+Inputs are written here from closed forms (a still IMU, level or tilted, with the readings physics gives it), so
+every expected number comes from physics, not from the code under test.
+"""
+
+import re
+
+import numpy as np
+import pytest
+
+from conftest import strapdown_cli
+from strapdown.io import read_metadata, read_table, write_table
+
+G = 9.80665
+# The field at 45 deg dip pointing north: (north, east, down) in µT
+B_NED = np.array([30.0, 0.0, 30.0])
+
+
+run = strapdown_cli
+
+
+def ok(*args):
+    res = run(*args)
+    assert res.returncode == 0, res.stderr
+    return res
+
+
+def still(n=600, rate=100.0, *, roll_deg=0.0, axes="FRD", t0=0.0, gyro_bias=(0.0, 0.0, 0.0), seed=0):
+    """A still IMU, level or rolled about its forward axis, facing north, read in FRD or FLU axes.
+
+    At rest the accelerometer reads minus gravity (specific force: +g up); in FRD axes of a level body, z points
+    down, so az = -g.  Rolled by phi about forward, the body's y axis dips by phi: f_FRD = g (0, sin phi, -cos phi).
+    The magnetometer reads the NED field rotated into the body the same way.
+    """
+    rng = np.random.default_rng(seed)
+    phi = np.radians(roll_deg)
+    c, s = np.cos(phi), np.sin(phi)
+    # body-from-NED for a roll phi about x (FRD): the transpose of the body-to-NED rotation
+    r = np.array([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])
+    acc = r @ np.array([0.0, 0.0, -G])
+    mag = r @ B_NED
+    if axes == "FLU":  # y and z flip
+        flip = np.array([1.0, -1.0, -1.0])
+        acc, mag, gyro_bias = acc * flip, mag * flip, np.asarray(gyro_bias) * flip
+    cols = {"t": t0 + np.arange(n) / rate}
+    noise = rng.normal(0.0, 1e-4, (n, 9))
+    for i, a in enumerate("xyz"):
+        cols[f"g{a}"] = gyro_bias[i] + noise[:, i]
+    for i, a in enumerate("xyz"):
+        cols[f"a{a}"] = acc[i] + noise[:, 3 + i]
+    for i, a in enumerate("xyz"):
+        cols[f"m{a}"] = mag[i] + noise[:, 6 + i]
+    return cols
+
+
+def signed(angle):
+    return (np.asarray(angle) + 180.0) % 360.0 - 180.0
+
+
+# ------------------------------------------------------------------------------------------------ frames and axes
+@pytest.mark.parametrize(
+    ("options", "yaw", "body"),
+    [
+        (["--body", "FRD", "--frame", "NED"], 0.0, "FRD"),  # aviation: north is yaw 0
+        (["--body", "FRD", "--frame", "ENU"], 90.0, "FLU"),  # ROS REP 103: yaw 0 faces east, north is +90
+        (["--body", "FRD", "--frame", "ENU", "--out-body", "RFU"], 0.0, "RFU"),  # x right: north is yaw 0
+    ],
+)
+def test_a_level_frd_drone_is_level_in_any_frame_once_its_axes_are_declared(tmp_path, options, yaw, body):
+    src = write_table(tmp_path / "drone.csv", still())
+    ok("estimate", src, "-o", tmp_path / "att.parquet", *options)
+    table = read_table(tmp_path / "att.parquet")
+    assert abs(table["roll_deg"][-1]) < 0.1 and abs(table["pitch_deg"][-1]) < 0.1
+    assert abs(signed(table["yaw_deg"][-1] - yaw)) < 0.5
+    meta = read_metadata(tmp_path / "att.parquet")
+    assert meta["frame"] == options[3] and meta["body"] == body and meta["sensor_axes"] == "FRD"
+
+
+def test_undeclared_frd_axes_in_enu_show_the_drone_upside_down_and_say_the_axes_were_assumed(tmp_path):
+    # the silent failure of issue 12: without --body, FRD readings taken for FLU read a level drone as rolled 180°
+    src = write_table(tmp_path / "drone.csv", still())
+    ok("estimate", src, "-o", tmp_path / "att.parquet")
+    table = read_table(tmp_path / "att.parquet")
+    assert abs(abs(table["roll_deg"][-1]) - 180.0) < 0.1
+    assert "assumed" in read_metadata(tmp_path / "att.parquet")["sensor_axes"]
+
+
+def test_a_rolled_body_shows_its_roll_with_flu_axes_too(tmp_path):
+    src = write_table(tmp_path / "flu.parquet", still(roll_deg=30.0, axes="FLU"))
+    for frame, sign in (("ENU", 1.0), ("NED", 1.0)):  # roll about forward is the same angle in FLU/ENU and FRD/NED
+        ok("estimate", src, "-o", tmp_path / f"{frame}.parquet", "--body", "FLU", "--frame", frame)
+        roll = read_table(tmp_path / f"{frame}.parquet")["roll_deg"][-1]
+        assert abs(roll - sign * 30.0) < 0.1, frame
+
+
+def test_integrate_turns_the_readings_into_the_declared_body_axes(tmp_path):
+    # 90 deg/s about FRD's z (down) for 1 s is a -90 deg yaw about FLU's z (up)
+    n = 101
+    cols = {"t": np.arange(n) * 0.01, "gx": np.zeros(n), "gy": np.zeros(n), "gz": np.full(n, np.pi / 2)}
+    src = write_table(tmp_path / "spin.parquet", cols)
+    ok("integrate", src, "-o", tmp_path / "flu.parquet", "--body", "FRD", "--out-body", "FLU", "--euler", "ZYX")
+    ok("integrate", src, "-o", tmp_path / "frd.parquet", "--body", "FRD")
+    assert signed(read_table(tmp_path / "flu.parquet")["yaw_deg"][-1]) == pytest.approx(-90.0, abs=1e-9)
+    assert signed(read_table(tmp_path / "frd.parquet")["yaw_deg"][-1]) == pytest.approx(90.0, abs=1e-9)
+    meta = read_metadata(tmp_path / "frd.parquet")
+    assert meta["body"] == "FRD" and meta["frame"].startswith("inertial")
+
+
+def test_bad_axes_are_refused_with_the_option_named(tmp_path):
+    src = write_table(tmp_path / "a.csv", still(50))
+    res = run("estimate", src, "--body", "FRU")
+    assert res.returncode == 1 and "--body FRU" in res.stderr and "left-handed" in res.stderr
+
+
+# ------------------------------------------------------------------------------------------------ time and metadata
+def test_t_counts_from_the_first_sample_and_the_origin_is_stored(tmp_path):
+    cols = still(300, t0=1000.25)
+    src = write_table(tmp_path / "late.parquet", cols)
+    ok("estimate", src, "-o", tmp_path / "att.h5")
+    table = read_table(tmp_path / "att.h5")
+    np.testing.assert_array_equal(table["t"], cols["t"] - cols["t"][0])
+    meta = read_metadata(tmp_path / "att.h5")
+    assert float(meta["time_origin"]) == 1000.25 and meta["time_origin_unit"] == "s"
+    assert meta["time_unit"] == "s" and meta["quaternion"].startswith("w,x,y,z")
+    assert meta["angle_unit"] == "deg" and meta["bias_unit"] == "deg/s"
+
+
+def test_every_output_format_carries_frame_body_and_units(tmp_path):
+    src = write_table(tmp_path / "a.parquet", still(200))
+    for suffix in ("parquet", "h5", "mat"):
+        ok("estimate", src, "-o", tmp_path / f"att.{suffix}", "--body", "FRD", "--frame", "NED", "--radians")
+        meta = read_metadata(tmp_path / f"att.{suffix}")
+        assert (meta["frame"], meta["body"], meta["angle_unit"], meta["bias_unit"]) == ("NED", "FRD", "rad", "rad/s")
+
+
+def test_mat_output_has_an_n_by_4_q_and_only_valid_matlab_names(tmp_path):
+    import scipy.io
+
+    src = write_table(tmp_path / "a.parquet", still(200))
+    ok("estimate", src, "-o", tmp_path / "att.mat", "--euler", "ZXZ")
+    data = scipy.io.loadmat(tmp_path / "att.mat")
+    names = [n for n in data if not n.startswith("__")]
+    assert all(re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,62}", n) for n in names), names
+    q = data["q"]
+    assert q.shape == (200, 4)
+    np.testing.assert_array_equal(q, np.column_stack([data[c].ravel() for c in ("qw", "qx", "qy", "qz")]))
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-12)
+
+
+# ------------------------------------------------------------------------------------------------ flags and bias
+def test_named_flag_columns_mark_rest_and_the_rejected_accelerometer(tmp_path):
+    cols = still(600)
+    jolt = slice(300, 310)  # ten rows of 3 g: a knock, which a gate of 2 m/s² from g rejects
+    for a in "xyz":
+        cols[f"a{a}"][jolt] *= 3.0
+    src = write_table(tmp_path / "knock.parquet", cols)
+    ok("estimate", src, "-o", tmp_path / "tilt.parquet", "-e", "tilt", "-p", "acc_gate=2", "--body", "FRD")
+    table = read_table(tmp_path / "tilt.parquet")
+    rejected = table["acc_rejected"].astype(bool)
+    assert rejected[jolt].all() and not rejected[:300].any() and not rejected[310:].any()
+    np.testing.assert_array_equal(rejected, (table["flags"].astype(int) & 2) != 0)
+    ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD")
+    rest = read_table(tmp_path / "att.parquet")["rest"].astype(bool)
+    # still from the start: rest is declared after rest_time (1.5 s) and not before
+    assert not rest[:100].any() and rest[250:300].all()
+
+
+def test_a_bias_at_its_limit_is_flagged_and_warned_about_once(tmp_path):
+    bias = np.radians(5.0)  # 5 deg/s about forward: observable from the tilt, beyond the default 2 deg/s limit
+    src = write_table(tmp_path / "biased.parquet", still(6000, gyro_bias=(bias, 0.0, 0.0)))
+    res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--6d", "-q")
+    assert res.stderr.count("warning:") == 1 and "bias_limit" in res.stderr
+    table = read_table(tmp_path / "att.parquet")
+    assert table["bias_at_limit"][-1] and table["bias_x_deg_s"][-1] == pytest.approx(2.0, rel=1e-9)
+    # the limit given in the output's unit: the bias is learnt, and nothing is said
+    res = ok("estimate", src, "-o", tmp_path / "free.parquet", "--body", "FRD", "--6d", "-p", "bias_limit_deg_s=10")
+    assert "warning:" not in res.stderr
+    free = read_table(tmp_path / "free.parquet")
+    assert not free["bias_at_limit"][-1000:].any()
+    assert free["bias_x_deg_s"][-1] == pytest.approx(5.0, abs=0.25)
+
+
+def test_parameters_in_degrees_equal_the_same_in_radians(tmp_path):
+    src = write_table(tmp_path / "a.parquet", still(300))
+    ok("estimate", src, "-o", tmp_path / "deg.parquet", "-p", "rest_gyro_deg_s=3", "-p", "mag_dip_threshold_deg=20")
+    radians = ["-p", f"rest_gyro={3 * np.pi / 180!r}", "-p", f"mag_dip_threshold={20 * np.pi / 180!r}"]
+    ok("estimate", src, "-o", tmp_path / "rad.parquet", *radians)
+    ok("estimate", src, "-o", tmp_path / "default.parquet")
+    a, b = read_table(tmp_path / "deg.parquet"), read_table(tmp_path / "rad.parquet")
+    for name in ("qw", "qx", "qy", "qz", "bias_x_deg_s"):
+        np.testing.assert_allclose(a[name], b[name], rtol=0, atol=1e-12)
+    res = run("estimate", src, "-p", "tau_acc_deg=2")
+    assert res.returncode == 2 and "tau_acc" in res.stderr and "not an angle" in res.stderr
+    listing = ok("estimate", "--list-params", "-e", "tilt").stdout
+    assert re.search(r"bias_limit\s+0.0349066 rad/s\s+= bias_limit_deg_s=2\b", listing)
+
+
+# ------------------------------------------------------------------------------------------------ gaps
+def _with_gap(tmp_path):
+    """3 s level, a 5 s gap, then 3 s rolled 30 deg (FRD)."""
+    first = still(300)
+    second = still(300, roll_deg=30.0, t0=8.0, seed=1)
+    cols = {k: np.concatenate([first[k], second[k]]) for k in first}
+    return write_table(tmp_path / "gap.parquet", cols), cols
+
+
+def test_a_gap_stops_estimate_by_default(tmp_path):
+    src, _ = _with_gap(tmp_path)
+    res = run("estimate", src, "--body", "FRD")
+    assert res.returncode == 1 and "gap of 5.01 s" in res.stderr and "--on-gap" not in res.stdout
+
+
+def test_on_gap_restart_starts_the_estimator_afresh_in_one_file(tmp_path):
+    src, cols = _with_gap(tmp_path)
+    res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--frame", "NED", "--on-gap", "restart")
+    assert "1 gap(s)" in res.stderr and "2.99 s -> 8 s" in res.stderr  # the last row before it, the first after
+    table = read_table(tmp_path / "att.parquet")
+    np.testing.assert_array_equal(table["segment"], np.repeat([0, 1], 300))
+    np.testing.assert_array_equal(table["t"], cols["t"])
+    # started afresh from its own first sample: the new tilt at once, not the old one slowly pulled over
+    assert abs(table["roll_deg"][300] - 30.0) < 0.1 and abs(table["roll_deg"][299]) < 0.1
+
+
+def test_on_gap_split_writes_a_file_per_segment(tmp_path):
+    src, cols = _with_gap(tmp_path)
+    res = ok("estimate", src, "-o", tmp_path / "att.csv", "--body", "FRD", "--frame", "NED", "--on-gap", "split")
+    assert "in 2 files" in res.stdout
+    one, two = read_table(tmp_path / "att.csv"), read_table(tmp_path / "att-2.csv")
+    np.testing.assert_array_equal(one["t"], cols["t"][:300])
+    np.testing.assert_array_equal(two["t"], cols["t"][300:])  # one time scale for the whole recording
+    assert abs(two["roll_deg"][0] - 30.0) < 0.1
+
+
+def test_integrate_restarts_from_q0_after_a_gap(tmp_path):
+    n = 200
+    t = np.concatenate([np.arange(n) * 0.01, 10.0 + np.arange(n) * 0.01])
+    cols = {"t": t, "gx": np.full(2 * n, np.pi / 2), "gy": np.zeros(2 * n), "gz": np.zeros(2 * n)}
+    src = write_table(tmp_path / "spin.parquet", cols)
+    ok("integrate", src, "-o", tmp_path / "att.parquet", "--on-gap", "restart", "--q0", "0,0,10")
+    table = read_table(tmp_path / "att.parquet")
+    roll = table["roll_deg"]
+    # 90 deg/s from 10 deg: row k of a segment is at 10 + 0.9 k deg (the last sample before the gap is unused)
+    expected = signed(10.0 + 0.9 * np.arange(n))
+    np.testing.assert_allclose(signed(roll[:n]), expected, atol=1e-9)
+    np.testing.assert_allclose(signed(roll[n:]), expected, atol=1e-9)
+
+
+# ------------------------------------------------------------------------------------------------ real layouts
+DATA = __import__("pathlib").Path(__file__).parent / "data"
+PX4_LOG = DATA / "px4" / "sample_logging_tagged_and_default_params.ulg"
+
+
+def test_a_phone_export_given_as_its_files_or_its_folder_lies_flat(tmp_path):
+    import sim_exports as sim
+
+    data = sim.phone_at_rest(duration=10.0)  # flat on a table, top to the north: simulated, Sensor Logger layout
+    folder = sim.sensor_logger(tmp_path / "export", data)
+    files = [folder / n for n in ("Gyroscope.csv", "TotalAcceleration.csv", "Magnetometer.csv")]
+    from conftest import rotation_angle
+    from strapdown import change_frame
+    from strapdown.fusion import AttitudeEstimator
+    from strapdown.io import read_imu
+
+    got = read_imu(folder, optional=("acc", "mag"))  # the library on the same readings, in the phone's axes
+    q_rfu = AttitudeEstimator().update(got.gyro, got.acc, got.mag, t=got.t).q
+    library_flu = change_frame(q_rfu, body_from="RFU", body_to="FLU")
+    ok("estimate", *files, "-o", tmp_path / "files.parquet")
+    ok("estimate", folder, "-o", tmp_path / "folder.parquet")
+    for name in ("files", "folder"):
+        table = read_table(tmp_path / f"{name}.parquet")
+        late = table["t"] > table["t"][-1] - 1.0
+        assert np.abs(table["pitch_deg"][late]).max() < 2.0 and np.abs(table["roll_deg"][late]).max() < 2.0
+        # Android's axes (RFU) turned into ENU's FLU: the library's attitude of the phone's own axes, re-expressed
+        # (the simulated consumer magnetometer's hard iron puts the heading off north; it is the same in both)
+        q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+        assert rotation_angle(q, library_flu).max() < 1e-9
+        meta = read_metadata(tmp_path / f"{name}.parquet")
+        assert (meta["frame"], meta["body"], meta["sensor_axes"]) == ("ENU", "FLU", "RFU")
+        assert meta["time_origin_kind"] == "epoch" and int(meta["time_origin"]) == sim.EPOCH_NS
+        assert table["t"][0] == 0.0
+
+
+def test_a_px4_log_goes_in_with_no_options_in_its_own_frames(tmp_path):
+    from strapdown.io import read_reference
+    from strapdown.metrics import attitude_errors
+
+    res = ok("estimate", PX4_LOG, "-o", tmp_path / "att.parquet")
+    assert "read:" in res.stderr
+    meta = read_metadata(tmp_path / "att.parquet")
+    assert (meta["frame"], meta["body"], meta["sensor_axes"]) == ("NED", "FRD", "FRD")
+    assert (meta["time_origin"], meta["time_origin_unit"], meta["time_origin_kind"]) == ("284000", "us", "boot")
+    table = read_table(tmp_path / "att.parquet")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+    ref = read_reference(PX4_LOG)  # the log's own estimator, on the same time origin
+    keep = (ref.t > 2.0) & (ref.t <= table["t"][-1])
+    rows = np.searchsorted(table["t"], ref.t[keep])
+    assert np.degrees(attitude_errors(q[rows], ref.q[keep])["inclination"]).max() < 1.0
+
+
+def test_sensors_at_lower_rates_are_refused_by_an_estimator_that_needs_every_row():
+    err = run("estimate", PX4_LOG, "-e", "mahony").stderr  # its magnetometer runs at a fraction of the gyro rate
+    assert "mag" in err and "-e attitude" in err
+    res = run("estimate", PX4_LOG, "-e", "mahony", "--6d", "-o", "/dev/null", "--format", "csv")
+    assert res.returncode == 0, res.stderr
+
+
+# ------------------------------------------------------------------------------------------------ plot --truth
+def test_plot_truth_in_other_frames_is_re_expressed_and_said_so(tmp_path):
+    from conftest import rotation_angle
+    from strapdown.io.truth import align_truth
+    from strapdown.metrics import attitude_errors
+
+    ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 20)  # truth in ENU, FLU axes
+    ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "ned.parquet", "--frame", "NED", "--body", "FLU")
+    res = ok("plot", tmp_path / "ned.parquet", "--truth", tmp_path / "sim.parquet", "--out", tmp_path / "fig")
+    assert "truth re-expressed from ENU/FLU to NED/FRD" in res.stderr
+    assert sorted(p.name for p in (tmp_path / "fig").iterdir())[:2] == ["ned_angles.png", "ned_bias.png"]
+    # the numbers behind the error figure: small once re-expressed, a half turn as the files stand
+    table = read_table(tmp_path / "ned.parquet")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])
+    aligned = align_truth(tmp_path / "ned.parquet", tmp_path / "sim.parquet")
+    # a few degrees: the simulated field's 4 deg declination in the heading, the rocking's accelerations in the tilt
+    assert np.degrees(rotation_angle(q, aligned.q)).max() < 8.0
+    assert np.degrees(attitude_errors(q, aligned.q)["inclination"]).max() < 5.0
+    raw = read_table(tmp_path / "sim.parquet")
+    q_true = np.column_stack([raw[c] for c in ("qw_true", "qx_true", "qy_true", "qz_true")])
+    assert np.median(np.degrees(rotation_angle(q, q_true))) > 60.0
+
+
+def test_plot_truth_without_frames_is_refused_until_they_are_declared(tmp_path):
+    ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 10)
+    raw = read_table(tmp_path / "sim.parquet")
+    bare = write_table(tmp_path / "ref.csv", {"t": raw["t"], **{c: raw[f"{c}_true"] for c in ("qw", "qx", "qy", "qz")}})
+    ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "att.parquet", "--body", "FLU")
+    res = run("plot", tmp_path / "att.parquet", "--truth", bare, "--out", tmp_path / "fig")
+    assert res.returncode == 1 and "--truth-frame" in res.stderr and "does not say" in res.stderr
+    assert not (tmp_path / "fig").exists() or not list((tmp_path / "fig").iterdir())
+    ok("plot", tmp_path / "att.parquet", "--truth", bare, "--truth-frame", "ENU", "--truth-body", "FLU", "--out",
+       tmp_path / "fig")  # fmt: skip
+
+
+def test_a_px4_logs_own_attitude_is_a_truth_for_plot(tmp_path):
+    from conftest import rotation_angle
+    from strapdown.io.truth import align_truth
+
+    ok("estimate", PX4_LOG, "-o", tmp_path / "att.csv")
+    res = ok("plot", tmp_path / "att.csv", "--truth", PX4_LOG, "--out", tmp_path / "fig")
+    assert "interpolated" in res.stderr and res.stdout.count("written:") >= 2
+    aligned = align_truth(tmp_path / "att.csv", PX4_LOG)
+    table = read_table(tmp_path / "att.csv")
+    q = np.column_stack([table[c] for c in ("qw", "qx", "qy", "qz")])[aligned.rows]
+    late = table["t"][aligned.rows] > 2.0
+    # the log's estimator and ours agree on the tilt at rest; the whole error (with heading) stays within degrees
+    assert np.degrees(rotation_angle(q[late], aligned.q[aligned.rows][late])).max() < 10.0
+
+
+def test_compare_runs_every_method_against_a_px4_logs_own_attitude():
+    from strapdown import METHODS
+
+    out = ok("compare", "--log", PX4_LOG).stdout
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if line and line.split()[0] in METHODS}
+    assert set(rows) == set(METHODS)
+    # the log's gyro integrated from its own first attitude stays near its estimator's attitude: a real gyro's bias
+    # and noise over the log's seconds, so not zero, and well under a degree
+    final = float(rows["exact"][1])
+    assert 1e-3 < final < 1.0

@@ -201,3 +201,23 @@ def test_a_full_disk_during_a_split_run_leaves_no_parts(recording, tmp_path):
     assert done.returncode == 1, done.stderr[-2000:]
     assert "Traceback" not in done.stderr
     assert [p.name for p in tmp_path.iterdir()] == []
+
+
+def test_a_killed_dask_worker_leaves_no_temporary(recording, tmp_path, spawn):
+    """The task of a worker killed while writing runs again elsewhere; that run removes the dead one's temporary."""
+    distributed = pytest.importorskip("distributed")
+    for i in range(2):
+        (tmp_path / f"in{i}.parquet").write_bytes(recording["big"].read_bytes())
+    inputs = {p.name for p in tmp_path.iterdir()}
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            pids = set(client.run(os.getpid).values())
+            proc = spawn(_cli("batch", tmp_path / "in?.parquet", "integrate", "--scheduler", cluster.scheduler_address))
+            assert _wait_for_temp(tmp_path, proc), "the batch never started writing"
+            temp = next(p for p in tmp_path.iterdir() if ".strapdown-" in p.name)
+            victim = int(re.search(r"-(\d+)-[0-9a-f]{8}\.tmp$", temp.name).group(1))
+            assert victim in pids
+            os.kill(victim, signal.SIGKILL)  # a worker of the cluster this test started
+            err = _finish(proc, timeout=300)
+    assert proc.returncode == 0, err[-2000:]
+    assert _leftovers(tmp_path, inputs) == ["in0.integrate.parquet", "in1.integrate.parquet"]

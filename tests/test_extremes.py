@@ -253,7 +253,7 @@ def test_allan_deviation_is_linear_in_x_at_any_scale():
     from strapdown.metrics import allan_deviation
 
     # alternating ±c: the first cluster pair differs by 2c, so adev(1 sample) = √(4c²/2) = c√2 (closed form)
-    for c in (1e200, 1e-300, 1.0):
+    for c in (1e200, 1e-300, 1.0, 1e308):  # 1e308: the mean of the samples alone overflowed
         _, adev = allan_deviation(np.array([c, -c] * 50), fs=10.0, taus=[0.1, 0.2])
         np.testing.assert_allclose(adev, [c * np.sqrt(2), 0.0], rtol=1e-14, atol=0)
     _, adev = allan_deviation(np.array([1.0, -1.0] * 50), fs=1e300, taus=[1e-300])

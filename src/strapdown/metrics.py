@@ -115,9 +115,9 @@ def allan_deviation(x, fs: float, taus=None, *, overlapping: bool = True) -> tup
     # The deviation is linear in x, so each signal is scaled by a power of two (exact) to a peak in [0.5, 1):
     # the squares below cannot overflow (x ~ 1e200 gave inf) or underflow.  In sample units (θ without the 1/fs,
     # τ = m) fs cancels from d²/τ², so it cannot under- or overflow them either.
-    centred = arr - arr.mean(axis=0)
-    _, e = np.frexp(np.max(np.abs(centred), axis=0))
-    centred = np.ldexp(centred, -e)
+    _, e = np.frexp(np.max(np.abs(arr), axis=0))
+    scaled = np.ldexp(arr, -e)
+    centred = scaled - scaled.mean(axis=0)
     theta = np.zeros((n + 1, *arr.shape[1:]))
     np.cumsum(centred, axis=0, out=theta[1:])
     adev = np.empty((sizes.shape[0], *arr.shape[1:]))
@@ -125,7 +125,11 @@ def allan_deviation(x, fs: float, taus=None, *, overlapping: bool = True) -> tup
         stride = 1 if overlapping else m
         d = theta[2 * m :: stride] - 2 * theta[m : n + 1 - m : stride] + theta[: n + 1 - 2 * m : stride]
         adev[i] = np.sqrt(np.mean(d**2, axis=0) / (2.0 * m * m))
-    return sizes / fs, np.ldexp(adev, e)
+    with np.errstate(over="ignore"):
+        adev = np.ldexp(adev, e)
+    if not np.isfinite(adev).all():
+        raise ValueError(f"the Allan deviation of x exceeds the largest float64: x reaches {np.abs(arr).max():.3g}")
+    return sizes / fs, adev
 
 
 def error_quaternion(q_est, q_ref) -> np.ndarray:

@@ -9,6 +9,17 @@ from __future__ import annotations
 import numpy as np
 
 
+class SampleError(ValueError):
+    """A ValueError about one sample of a chunk.
+
+    ``sample`` is its index in the chunk; callers that read files turn it into a file line.
+    """
+
+    def __init__(self, message: str, sample: int):
+        super().__init__(message)
+        self.sample = sample
+
+
 def float_dtype(x: np.ndarray) -> np.dtype:
     """The floating dtype a result takes: float32 stays float32, float64 stays float64, the rest widen."""
     if x.dtype == np.float32 or x.dtype == np.float64:

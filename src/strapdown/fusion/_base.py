@@ -119,9 +119,10 @@ def _in_range(arr: np.ndarray, name: str) -> None:
         big = np.abs(arr).max(axis=-1, initial=0.0) > MAX_SAMPLE
     if big.any():
         k = int(np.flatnonzero(big)[0])
-        raise ValueError(
+        raise _v.SampleError(
             f"{name}[{k}] = {arr[k].tolist()} is beyond {MAX_SAMPLE:.0e} in magnitude: no sensor reads that; "
-            "check the units"
+            "check the units",
+            k,
         )
 
 
@@ -308,9 +309,10 @@ class Estimator:
             # NaN propagates along the filter's chain, so the last attitude shows whether any sample diverged
             k = int(np.flatnonzero(~np.isfinite(out.q).all(axis=-1))[0])
             self._state, self._t_last, self._use_mag = saved
-            raise ValueError(
+            raise _v.SampleError(
                 f"the filter diverged at sample {k} (gyr {g[k].tolist()}, acc {a[k].tolist()}); the state before this "
-                "chunk is kept"
+                "chunk is kept",
+                k,
             )
         if out.q.size and self.frame != self.natural_frame:
             out.q = multiply(self._to_out, out.q, check=False)
@@ -437,13 +439,16 @@ def _check_steps(g: np.ndarray, dts: np.ndarray) -> None:
     """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE."""
     if not (dts <= MAX_DT).all():
         k = int(np.flatnonzero(~(dts <= MAX_DT))[0])
-        raise ValueError(f"sample {k} lasts {dts[k]:.3g} s, beyond {MAX_DT:.0e} s; check the time unit of dt or t")
+        raise _v.SampleError(
+            f"sample {k} lasts {dts[k]:.3g} s, beyond {MAX_DT:.0e} s; check the time unit of dt or t", k
+        )
     step = np.abs(g).max(axis=-1, initial=0.0) * dts
     if not (step <= MAX_STEP_ANGLE).all():
         k = int(np.flatnonzero(~(step <= MAX_STEP_ANGLE))[0])
-        raise ValueError(
+        raise _v.SampleError(
             f"gyr[{k}] turns by {step[k]:.3g} rad in one sample, beyond {MAX_STEP_ANGLE:.3g} rad where float64 "
-            "cannot hold a step's angle; check the units and the time step"
+            "cannot hold a step's angle; check the units and the time step",
+            k,
         )
 
 

@@ -125,3 +125,13 @@ def test_tilt_from_up_keeps_float32():
     got = tilt_from_up(np.array([[0.0, 0, 1], [0.0, 0, -1], [0, 1, 1]], dtype=np.float32))
     assert got.dtype == np.float32
     np.testing.assert_allclose(got[2], [np.cos(np.pi / 8), np.sin(np.pi / 8), 0, 0], atol=1e-7)
+
+
+def test_attitude_offline_names_a_bad_mag_and_refuses_complex_acc():
+    from strapdown.fusion import attitude_offline
+
+    g, a = np.zeros((50, 3)), np.tile([0.0, 0.0, 9.81], (50, 1))
+    with pytest.raises(ValueError, match=r"mag must have shape \(\.\.\., 3\)"):
+        attitude_offline(g, a, 0.5, dt=0.01)  # an IndexError before
+    with pytest.raises(ValueError, match="acc must be real, got a complex array"):
+        attitude_offline(g, a * (1 + 0j), dt=0.01)  # accepted, imaginary part dropped, before

@@ -283,7 +283,7 @@ class AttitudeEstimator(Estimator):
             Attitudes, bias, its standard deviation (``extra["bias_sigma"]``) and flags.
         """
         if known_acc is not None:
-            a = np.asarray(acc, dtype=np.float64)
+            a = _v.vectors(acc, "acc", check=False, dtype=np.float64)  # NaN rows allowed; complex refused
             known = _v.vectors(known_acc, "known_acc", dtype=np.float64)
             if known.shape != a.shape:
                 raise ValueError(f"known_acc must have the shape of acc {a.shape}, got {known.shape}")
@@ -492,8 +492,10 @@ def attitude_offline(
     f = p.offline_time_factor
     po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
-    a = np.asarray(acc, dtype=np.float64)
-    m = None if mag is None else np.asarray(mag, dtype=np.float64)
+    # shape and dtype here (NaN rows mean no sample; the forward pass checks the values): a complex acc lost its
+    # imaginary part in asarray, and a scalar mag (attitude_offline(g, a, 0.5)) gave an IndexError
+    a = _v.vectors(acc, "acc", check=False, dtype=np.float64)
+    m = None if mag is None else _v.vectors(mag, "mag", check=False, dtype=np.float64)
     fwd = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
     fwd6 = fwd.update(g, a, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
     if known_acc is not None:

@@ -142,3 +142,22 @@ def test_valid_integrator_state_round_trips_for_every_method():
             second = AttitudeIntegrator(method, input=inp, q0=[0.9, 0.3, 0.2, 0.1])
             second.state = first.state
             np.testing.assert_array_equal(np.concatenate([head, second.update(g[11:], **kw)]), expected)
+
+
+def test_a_state_restored_after_per_step_durations_keeps_the_timing():
+    # the scalar-dt anchor of an earlier chunk stayed in the state after a chunk with per-step durations, so a
+    # restored integrator timed the next scalar-dt chunk from the stale anchor (7 mrad off for rk4)
+    from strapdown import AttitudeIntegrator
+
+    g = 0.1 * np.random.default_rng(0).standard_normal((30, 3))
+
+    def run(restore):
+        a = AttitudeIntegrator("rk4")
+        out = [a.update(g[:10], 0.01), a.update(g[10:20], np.full(10, 0.02))]
+        if restore:
+            b = AttitudeIntegrator("rk4")
+            b.state = a.state
+            a = b
+        return np.concatenate([*out, a.update(g[20:], 0.01), a.finish()])
+
+    np.testing.assert_array_equal(run(True), run(False))

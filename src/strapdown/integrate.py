@@ -442,7 +442,7 @@ class AttitudeIntegrator:
                 raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {dt_arr.shape}")
             if not (dt_arr > 0).all():
                 raise ValueError(f"dt{_v.first_index(~(dt_arr > 0))} is not positive; durations must be > 0")
-            self._dt_anchor = None
+            self._dt_anchor = st.extra["dt_anchor"] = None  # also in the state: a restored one must not reuse it
             ends = np.cumsum(np.concatenate([[prev_end], dt_arr]))[1:]
             return dt_arr, ends, float(ends[-1]) if n else st.t_end
         t_arr = _v.finite(t, "t", dtype=np.float64)
@@ -451,7 +451,7 @@ class AttitudeIntegrator:
                 f"t must have one end time per sample here ({n}), got shape {t_arr.shape}; integrate() takes "
                 "N + 1 times (the start and the end of every step)"
             )
-        self._dt_anchor = None
+        self._dt_anchor = st.extra["dt_anchor"] = None
         ends = t_arr - self.t0
         full = np.concatenate([[prev_end], ends])
         steps = np.diff(full)

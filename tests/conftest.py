@@ -2,6 +2,8 @@
 
 import itertools
 import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -63,6 +65,16 @@ def wrapped(a):
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)
+
+
+def run_isolated(code: str, *args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    """Run Python ``code`` in a fresh interpreter (PYTHONPATH inherited), so that a crash fails a test, not pytest.
+
+    A segfault or abort shows as a negative return code (or 134) in the result, with stdout and stderr as text.
+    """
+    return subprocess.run(
+        [sys.executable, "-c", code, *args], capture_output=True, text=True, timeout=timeout, check=False
+    )
 
 
 def strapdown_cli(*args, timeout=180, cwd=None):

@@ -541,7 +541,7 @@ def test_overflowing_steps_are_reported_and_the_stream_survives():
     integ = AttitudeIntegrator("exact")
     integ.update(np.full((10, 3), 0.1), 0.01)
     before = integ.state
-    with pytest.raises(ValueError, match="overflow"):
+    with pytest.raises(ValueError, match=r"gyro sample 10 turns by 1e\+306 rad in one step"):
         integ.update(np.full((10, 3), 1e308), 0.01)
     after = integ.state
     np.testing.assert_array_equal(after.q, before.q)

@@ -274,7 +274,7 @@ def test_canonical_of_q_and_minus_q_are_bit_identical(rng):
         (quat.log, "q"),
         (lambda bad: quat.power(bad, 2.0), "q"),
         (lambda bad: quat.rotate(bad, [1.0, 0, 0]), "q"),
-        (lambda bad: quat.slerp(bad, [1, 0, 0, 0], 0.5), "q"),
+        (lambda bad: quat.slerp(bad, [1, 0, 0, 0], 0.5), "p"),  # once reported as q (issue 14)
         (lambda bad: quat.angle_between(bad, [1, 0, 0, 0]), "p"),
         (quat.canonical, "q"),
     ],
@@ -329,12 +329,17 @@ def test_extreme_norms_are_rejected_or_handled():
     tiny = np.full(4, 1e-300)
     # the sign rule needs no norm: a tiny quaternion is fine
     np.testing.assert_array_equal(quat.canonical(-tiny), tiny)
+    # normalising needs no squared norm either: rows far from unit are scaled by a power of two first (issue 14)
+    np.testing.assert_array_equal(quat.normalize(tiny), np.full(4, 0.5))
+    np.testing.assert_array_equal(quat.normalize(np.full(4, 1e300)), np.full(4, 0.5))
+    np.testing.assert_array_equal(quat.normalize([5e-324, 0, 0, 0]), [1.0, 0, 0, 0])
+    f32 = quat.normalize(np.array([[1.0, 0, 0, 0], [1e-20, 0, 0, 0]], dtype=np.float32))
+    assert f32.dtype == np.float32 and np.array_equal(f32, [[1, 0, 0, 0], [1, 0, 0, 0]])
+    # the inverse needs |q|², which would underflow: refused by name
     with pytest.raises(ValueError, match=r"q has a norm too small .* underflows"):
-        quat.normalize(tiny)
+        quat.inverse(tiny)
     with pytest.raises(ValueError, match=r"q has a norm too large .* overflows"):
-        quat.normalize(np.full(4, 1e300))
-    with pytest.raises(ValueError, match=r"q\[1\] has a norm too small"):
-        quat.normalize(np.array([[1.0, 0, 0, 0], [1e-20, 0, 0, 0]], dtype=np.float32))
+        quat.inverse(np.full(4, 1e300))
 
 
 def test_log_exp_with_subnormal_squares():

@@ -9,6 +9,17 @@ from __future__ import annotations
 import numpy as np
 
 
+class SampleError(ValueError):
+    """A ValueError about one sample of a chunk.
+
+    ``sample`` is its index in the chunk; callers that read files turn it into a file line.
+    """
+
+    def __init__(self, message: str, sample: int):
+        super().__init__(message)
+        self.sample = sample
+
+
 def float_dtype(x: np.ndarray) -> np.dtype:
     """The floating dtype a result takes: float32 stays float32, float64 stays float64, the rest widen."""
     if x.dtype == np.float32 or x.dtype == np.float64:
@@ -109,11 +120,35 @@ def quaternions(q, name: str = "q", *, check: bool = True, nonzero: bool = True,
     return arr
 
 
-def nonzero_rows(arr: np.ndarray, name: str) -> None:
+def rotations(q, name: str = "q", *, check: bool = True, dtype=None) -> np.ndarray:
+    """Validate quaternions that stand for rotations only (their norm does not matter): any finite, non-zero q.
+
+    A row whose largest component is so large or small that products of two or three components would
+    overflow or underflow (beyond 2^±(maxexp/4): 1e±77 in float64, 4e9 and 2e-10 in float32) is scaled by a
+    power of two, which is exact and leaves the rotation unchanged; other rows are returned bit for bit.  So
+    ``q * 1e200`` and ``q * 5e-324`` give the results of ``q``.
+    """
+    arr = as_float_array(q, name, dtype=dtype)
+    check_last_axis(arr, name, 4, "quaternions [w, x, y, z]")
+    if not check:
+        return arr
+    limit = np.finfo(arr.dtype).maxexp // 4
+    big = np.max(np.abs(arr), axis=-1)
+    safe = (big >= np.ldexp(1.0, -limit)) & (big <= np.ldexp(1.0, limit))  # False for NaN too
+    if safe.all():
+        return arr
+    check_finite(arr, name)
+    nonzero_rows(arr, name, "a rotation quaternion must have a non-zero norm")
+    _, exponent = np.frexp(big)
+    exponent = np.where(safe, 0, exponent).astype(np.int32)
+    return np.ldexp(arr, -exponent[..., None]).astype(arr.dtype, copy=False)
+
+
+def nonzero_rows(arr: np.ndarray, name: str, why: str = "it has no sign to choose") -> None:
     """Raise if a row of (..., 4) is all zeros (for rules that need no norm, such as the sign choice)."""
     zero = ~np.any(arr != 0, axis=-1)
     if zero.any():
-        raise ValueError(f"{name}{first_index(zero)} is a zero quaternion; it has no sign to choose")
+        raise ValueError(f"{name}{first_index(zero)} is a zero quaternion; {why}")
 
 
 def vectors(v, name: str, *, check: bool = True, dtype=None) -> np.ndarray:
@@ -143,6 +178,28 @@ def choice(value: str, name: str, options: tuple[str, ...]) -> str:
 def result_dtype(*arrays: np.ndarray) -> np.dtype:
     """Common floating dtype of several validated arrays (float32 only if all are float32)."""
     return np.result_type(*arrays, np.float32)
+
+
+def weak(x) -> bool:
+    """True for a Python int or float: as in NumPy 2, such a scalar takes the dtype of the arrays beside it."""
+    return isinstance(x, int | float) and not isinstance(x, bool)
+
+
+def broadcast(*named: tuple[str, tuple]) -> tuple:
+    """Broadcast of the leading shapes of named arguments; ValueError naming the two that do not fit."""
+    try:
+        return np.broadcast_shapes(*(shape for _, shape in named))
+    except ValueError:
+        for i, (a, sa) in enumerate(named):
+            for b, sb in named[i + 1 :]:
+                try:
+                    np.broadcast_shapes(sa, sb)
+                except ValueError:
+                    raise ValueError(
+                        f"{a} and {b} do not broadcast: leading shapes {sa} and {sb} (one of them must be 1 or "
+                        "absent on every axis where they differ)"
+                    ) from None
+        raise ValueError(f"the shapes of {', '.join(n for n, _ in named)} do not broadcast together") from None
 
 
 def promote(*arrays: np.ndarray) -> tuple[np.ndarray, ...]:

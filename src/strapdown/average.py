@@ -69,9 +69,11 @@ def average_two(p, q, *, check: bool = True) -> np.ndarray:
     >>> average_two([1.0, 0, 0, 0], -np.array(q90z))        # the sign of q does not matter
     array([0.92387953, 0.        , 0.        , 0.38268343])
     """
-    p = _v.quaternions(p, "p", check=check)
-    q = _v.quaternions(q, "q", check=check)
+    p = _v.rotations(p, "p", check=check)
+    q = _v.rotations(q, "q", check=check)
     dtype = _v.result_dtype(p, q)
+    if check:
+        _v.broadcast(("p", p.shape[:-1]), ("q", q.shape[:-1]))
     p1 = _unit(p)
     q1 = _unit(q)
     sign = np.where(np.einsum("...i,...i->...", p1, q1) < 0, -1.0, 1.0)
@@ -166,8 +168,14 @@ def mean(q, weights=None, *, axis=None, return_outliers: bool = False, threshold
     >>> mean(q[:2], weights=[3.0, 1.0])          # pulled towards the first: 0.0501 rad about z
     array([0.99968595, 0.        , 0.        , 0.02506003])
     """
-    qv = _v.quaternions(q, "q", check=check)
+    qv = _v.rotations(q, "q", check=check)
     dtype = qv.dtype
+    if threshold is not None:
+        limit = _v.finite(threshold, "threshold", check=check, dtype=np.float64)
+        if limit.ndim != 0 or not limit >= 0:
+            raise ValueError(f"threshold must be one non-negative angle in radians; got {threshold!r}")
+        if not return_outliers:
+            raise ValueError("threshold is the outlier threshold: give it with return_outliers=True")
     q1 = _unit(qv)
     axes = _reduced_axes(axis, q1.ndim)
     lead = q1.shape[:-1]
@@ -198,10 +206,6 @@ def mean(q, weights=None, *, axis=None, return_outliers: bool = False, threshold
     mu = _eigen_mean(qs, ws)
     if not return_outliers:
         return mu.astype(dtype, copy=False)
-    if threshold is not None:
-        limit = _v.finite(threshold, "threshold", check=check, dtype=np.float64)
-        if limit.ndim != 0 or not limit >= 0:
-            raise ValueError(f"threshold must be one non-negative angle in radians; got {threshold!r}")
     flags = np.zeros(ws.shape, dtype=bool)
     for _ in range(_ROUNDS):
         d = angle_between(mu[..., None, :], qs, check=False)
@@ -234,19 +238,20 @@ def chordal_distance(p, q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     p, q : array_like, shape (..., 4)
-        Non-zero quaternions; leading axes broadcast.
+        Non-zero quaternions of any finite norm; leading axes broadcast.
     check : bool
         Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
     numpy.ndarray, shape (...)
-        Distances in [0, 2√2], with θ in [0, π] the rotation angle between the attitudes.  This is the distance
-        :func:`mean` minimises (squared).  It is not the quaternion chord ``min(|p - q|, |p + q|) = 2 sin(θ/4)``.
+        Distances (float32 for float32 input) in [0, 2√2], with θ in [0, π] the rotation angle between the
+        attitudes.  This is the distance :func:`mean` minimises (squared).  It is not the quaternion chord
+        ``min(|p - q|, |p + q|) = 2 sin(θ/4)``.
 
     Notes
     -----
-    Computed as ``2√2 |vec(p* ⊗ q)| / (|p| |q|)``, accurate for tiny angles and sign-invariant.
+    Computed as ``2√2 |vec(p* ⊗ q)|`` of the normalised p and q, accurate for tiny angles and sign-invariant.
 
     Examples
     --------
@@ -256,11 +261,15 @@ def chordal_distance(p, q, *, check: bool = True) -> np.ndarray:
     >>> float(chordal_distance([1.0, 0, 0, 0], q90z))      # 2√2 sin 45° = 2
     2.0
     """
-    p = _v.quaternions(p, "p", check=check)
-    q = _v.quaternions(q, "q", check=check)
-    r = multiply(conjugate(p, check=False), q, check=False)
-    scale = np.sqrt(np.einsum("...i,...i->...", p, p) * np.einsum("...i,...i->...", q, q))
-    return 2 * np.sqrt(2) * _norm3(r[..., 1:]) / scale
+    p = _v.rotations(p, "p", check=check)
+    q = _v.rotations(q, "q", check=check)
+    dtype = _v.result_dtype(p, q)
+    if check:
+        _v.broadcast(("p", p.shape[:-1]), ("q", q.shape[:-1]))
+    # normalised first: |p|²|q|² over- or underflows far from unit norm (float32 at 5e9 gave 0, at 1e-12 inf)
+    p1, q1 = _unit(p), _unit(q)
+    r = multiply(conjugate(p1, check=False), q1, check=False)
+    return (2 * np.sqrt(2) * _norm3(r[..., 1:])).astype(dtype, copy=False)
 
 
 def geodesic_distance(p, q, *, check: bool = True) -> np.ndarray:

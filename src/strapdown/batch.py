@@ -169,6 +169,9 @@ class _Runner:
         self._pool = None
 
     def __enter__(self):
+        from ._files import guard_signals
+
+        guard_signals()  # SIGTERM/SIGHUP: stop the workers, which remove their temporaries (_files.py)
         if self.scheduler:
             from .io._deps import need
 

@@ -42,7 +42,7 @@ def as_cayley_klein(q, *, check: bool = True) -> np.ndarray:
     >>> bool(np.allclose(u, np.diag([np.exp(-1j * np.pi / 4), np.exp(1j * np.pi / 4)])))
     True
     """
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     q = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     ctype = np.complex64 if q.dtype == np.float32 else np.complex128

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _validate as _v
 from .euler import as_euler, from_euler
 from .quaternion import canonical
 
@@ -77,4 +78,6 @@ def as_compressed(q, degrees: bool = False, *, check: bool = True) -> np.ndarray
     >>> as_compressed(from_compressed([10.0, 90.0, 30.0], degrees=True), degrees=True).round(9)
     array([40., 90.,  0.])
     """
-    return as_euler(canonical(q, check=check), LIU_SEQUENCE, degrees, check=False)
+    # validated as a rotation (scaled exactly when far from unit norm), then the sign rule: as_euler's own check
+    # is skipped, so it must happen here (q * 1e199 gave pitch 0, the identity at 5e-324 gave -90°)
+    return as_euler(canonical(_v.rotations(q, "q", check=check), check=False), LIU_SEQUENCE, degrees, check=False)

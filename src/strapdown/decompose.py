@@ -93,7 +93,7 @@ def swing_twist(q, axis, *, frame: str = "body", check: bool = True) -> tuple[np
     array([0.96592583, 0.        , 0.25881905, 0.        ])
     """
     _v.choice(frame, "frame", ("body", "reference"))
-    qv = _v.quaternions(q, "q", check=check)
+    qv = _v.rotations(q, "q", check=check)
     n = _unit_vectors(axis, "axis", check)
     dtype = _v.result_dtype(qv, _v.vectors(axis, "axis", check=False))
     lead = _broadcast(("q", qv), ("axis", n))
@@ -232,8 +232,8 @@ def attitude_error(q, q_ref, *, frame: str = "body", rotvec: bool = False, check
     array([0. , 0. , 0.1])
     """
     _v.choice(frame, "frame", ("body", "reference"))
-    qv = _v.quaternions(q, "q", check=check)
-    rv = _v.quaternions(q_ref, "q_ref", check=check)
+    qv = _v.rotations(q, "q", check=check)
+    rv = _v.rotations(q_ref, "q_ref", check=check)
     dtype = _v.result_dtype(qv, rv)
     _broadcast(("q", qv), ("q_ref", rv))
     q1 = _unit_quaternions(qv.astype(np.float64, copy=False))

@@ -167,7 +167,7 @@ def as_euler(
     """
     _v.choice(yaw_range, "yaw_range", ("signed", "positive"))
     intrinsic, axes = _parse_seq(seq)
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     i, j, k = axes[::-1] if intrinsic else axes
     proper = i == k
     if proper:

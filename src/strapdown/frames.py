@@ -57,6 +57,20 @@ def _axes(frame: str, name: str) -> tuple[str, np.ndarray]:
     return kind, rows
 
 
+def check_frame(frame, name: str, kind: str | None = None) -> str:
+    """Validate a frame name given as argument ``name`` (of ``kind`` "reference" or "body" when given).
+
+    The errors name the caller's argument, not ``src``/``dst`` of :func:`frame_matrix`.
+    """
+    got, _ = _axes(frame, name)
+    if kind is not None and got != kind:
+        raise ValueError(
+            f"{name}={frame!r} is a {got} frame; {name} must be a {kind} frame "
+            f"({'N, E, S, W, U, D, e.g. NED or ENU' if kind == 'reference' else 'F, B, R, L, U, D, e.g. FRD or FLU'})"
+        )
+    return frame
+
+
 def frame_matrix(src: str, dst: str) -> np.ndarray:
     """Matrix M with ``v_dst = M @ v_src``: the coordinates of a vector in frame ``dst`` from those in ``src``.
 
@@ -178,8 +192,13 @@ def change_frame(
         raise ValueError("give both ref_from and ref_to, or neither")
     if (body_from is None) != (body_to is None):
         raise ValueError("give both body_from and body_to, or neither")
+    # checked here first, so that an error names the argument (frame_quaternion would call it src or dst)
     if ref_from is not None:
+        check_frame(ref_from, "ref_from", "reference")
+        check_frame(ref_to, "ref_to", "reference")
         out = multiply(frame_quaternion(ref_from, ref_to).astype(q.dtype), out, check=False)
     if body_from is not None:
+        check_frame(body_from, "body_from", "body")
+        check_frame(body_to, "body_to", "body")
         out = multiply(out, frame_quaternion(body_to, body_from).astype(q.dtype), check=False)
     return out

@@ -101,6 +101,10 @@ def _coning_table(method: str) -> tuple[np.ndarray, float]:
     return k, 0.0
 
 
+# The largest rotation of one step, rad: beyond it its angle is not known to 1 mrad in float64 (1e-3 / eps, the
+# limit quaternion.power uses), and the arithmetic of several methods overflows soon after.
+MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps
+
 _CONING = ["coning1-prev", "coning2", "coning3", "coning4", "coning5", "coning6", "coning3-poly", "coning4-poly"]
 METHODS = (*_STEP_KINDS, "rk4", *_CONING, *_BASELINES)
 
@@ -260,8 +264,90 @@ class AttitudeIntegrator:
     def state(self, value: IntegratorState) -> None:
         if not isinstance(value, IntegratorState):
             raise ValueError("state must be an IntegratorState taken from an integrator of the same method")
-        self._state = value.copy()
-        self._dt_anchor = value.extra.get("dt_anchor")
+        self._state = self._checked_state(value)
+        self._dt_anchor = self._state.extra.get("dt_anchor")
+        self._finished = False
+
+    def _checked_state(self, value: IntegratorState) -> IntegratorState:
+        """A validated copy of ``value``: ValueError naming the entry unless it fits this integrator.
+
+        The kernels index the state's arrays and counters without bounds checks (a coning position of -5 writes
+        outside the group buffer), so everything is compared with a fresh state of the same layout first.
+        """
+        q = _v.quaternions(value.q, "state.q", dtype=np.float64)
+        if q.ndim != 2:
+            raise ValueError(f"state.q must have shape (B, 4), got {q.shape}")
+        ex = value.extra if isinstance(value.extra, dict) else {}
+        single, dtype = ex.get("single"), ex.get("dtype")
+        if not isinstance(single, bool | np.bool_) or (single and q.shape[0] != 1):
+            raise ValueError(f"state.extra['single'] must be a bool (True only for one body), got {single!r}")
+        if not (isinstance(dtype, np.dtype | type) and np.dtype(dtype) in (np.float32, np.float64)):
+            raise ValueError(f"state.extra['dtype'] must be float32 or float64, got {dtype!r}")
+        n_bodies = q.shape[0]
+        fresh = self._fresh_state(n_bodies, bool(single), dtype, q0=q)
+        want, have = set(fresh.extra) | {"dt_anchor"}, set(ex) | {"dt_anchor"}
+        if want != have:
+            raise ValueError(
+                f"state.extra has entries {sorted(have)}, but a {self.method!r} integrator with input={self.input!r} "
+                f"needs {sorted(want)}; take the state from an integrator of the same method"
+            )
+        counts = {}
+        for name in ("steps_in", "steps_out", "counter"):
+            counts[name] = _count(getattr(value, name), f"state.{name}")
+        steps_in, steps_out = counts["steps_in"], counts["steps_out"]
+        if steps_out > steps_in or (not self._cubic and steps_out != steps_in):
+            raise ValueError(f"state.steps_out ({steps_out}) does not fit state.steps_in ({steps_in})")
+        t_end = value.t_end
+        if not isinstance(t_end, float | int | np.floating | np.integer) or not (
+            np.isfinite(t_end) or (np.isnan(t_end) and self.input == "increment")
+        ):
+            raise ValueError(f"state.t_end must be a finite time in seconds, got {t_end!r}")
+        out = IntegratorState(q.copy(), steps_in, steps_out, float(t_end), counts["counter"], {})
+        if self._cubic:
+            # a step's interpolation window starts at most one sample before it, or at N - 4 at the end
+            latest = max(min(steps_out - 1, steps_in - 4), 0)
+            first = _count(ex["buf_first"], "state.extra['buf_first']")
+            if first > latest:
+                raise ValueError(f"state.extra['buf_first'] must be at most {latest} here, got {first}")
+        for key, ref in fresh.extra.items():
+            name = f"state.extra[{key!r}]"
+            v = ex[key]
+            if isinstance(ref, np.ndarray):
+                arr = np.asarray(v) if isinstance(v, np.ndarray | list | tuple) else None
+                if arr is None or arr.dtype.kind != ref.dtype.kind:
+                    raise ValueError(f"{name} must be a {ref.dtype} array, got {type(v).__name__}")
+                shape = list(ref.shape)
+                if key in ("buf_s", "buf_t"):  # the sample buffer: its length is steps_in - buf_first
+                    shape[1 if key == "buf_s" else 0] = steps_in - ex["buf_first"]
+                if list(arr.shape) != shape:
+                    raise ValueError(f"{name} must have shape {tuple(shape)}, got {arr.shape}")
+                # the baselines' own states may hold infinities by design (a rotation vector at 180 degrees);
+                # their distance to the singular set reports them
+                if key not in ("base", "last_q") and arr.dtype.kind == "f":
+                    _v.check_finite(arr, name)
+                out.extra[key] = arr.astype(ref.dtype, copy=True)
+            elif key in ("pos", "buf_first"):
+                out.extra[key] = _count(v, name)
+            else:
+                out.extra[key] = v
+        if "pos" in out.extra and out.extra["pos"] != steps_out % fresh.extra["group"].shape[1]:
+            size = fresh.extra["group"].shape[1]
+            raise ValueError(
+                f"state.extra['pos'] must be state.steps_out mod {size} = {steps_out % size}, got {out.extra['pos']}"
+            )
+        anchor = ex.get("dt_anchor")
+        if anchor is not None:
+            ok = isinstance(anchor, tuple) and len(anchor) == 3
+            if ok:
+                try:
+                    ok = _count(anchor[0], "") <= steps_in and np.isfinite(anchor[1]) and anchor[2] > 0
+                    ok = ok and np.isfinite(anchor[2])
+                except (TypeError, ValueError):
+                    ok = False
+            if not ok:
+                raise ValueError(f"state.extra['dt_anchor'] must be None or (step, time, dt), got {anchor!r}")
+            out.extra["dt_anchor"] = (int(anchor[0]), float(anchor[1]), float(anchor[2]))
+        return out
 
     @property
     def attitude(self) -> np.ndarray | None:
@@ -276,7 +362,12 @@ class AttitudeIntegrator:
 
     # ----------------------------------------------------------------------------------------------------
     def _start(self, n_bodies: int, single: bool, dtype) -> None:
-        q0 = np.array([1.0, 0.0, 0.0, 0.0]) if self._q0 is None else self._q0.astype(np.float64)
+        self._state = self._fresh_state(n_bodies, single, dtype)
+
+    def _fresh_state(self, n_bodies: int, single: bool, dtype, q0=None) -> IntegratorState:
+        """The state before the first sample (from ``q0``, or this integrator's own initial attitude)."""
+        if q0 is None:
+            q0 = np.array([1.0, 0.0, 0.0, 0.0]) if self._q0 is None else self._q0.astype(np.float64)
         q0 = q0 / np.linalg.norm(q0, axis=-1, keepdims=True)
         if q0.ndim == 2 and q0.shape[0] not in (1, n_bodies):
             raise ValueError(f"q0 has {q0.shape[0]} rows but gyro has {n_bodies} bodies")
@@ -304,7 +395,7 @@ class AttitudeIntegrator:
             st.extra["buf_s"] = np.zeros((n_bodies, 0, 3))
             st.extra["buf_t"] = np.zeros(0)  # sample instants (relative), one per buffered sample
             st.extra["buf_first"] = 0  # global index of the first buffered sample
-        self._state = st
+        return st
 
     def _baseline_state(self, q: np.ndarray) -> np.ndarray:
         from .euler import as_euler
@@ -360,7 +451,7 @@ class AttitudeIntegrator:
                 raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {dt_arr.shape}")
             if not (dt_arr > 0).all():
                 raise ValueError(f"dt{_v.first_index(~(dt_arr > 0))} is not positive; durations must be > 0")
-            self._dt_anchor = None
+            self._dt_anchor = st.extra["dt_anchor"] = None  # also in the state: a restored one must not reuse it
             ends = np.cumsum(np.concatenate([[prev_end], dt_arr]))[1:]
             return dt_arr, ends, float(ends[-1]) if n else st.t_end
         t_arr = _v.finite(t, "t", dtype=np.float64)
@@ -369,7 +460,7 @@ class AttitudeIntegrator:
                 f"t must have one end time per sample here ({n}), got shape {t_arr.shape}; integrate() takes "
                 "N + 1 times (the start and the end of every step)"
             )
-        self._dt_anchor = None
+        self._dt_anchor = st.extra["dt_anchor"] = None
         ends = t_arr - self.t0
         full = np.concatenate([[prev_end], ends])
         steps = np.diff(full)
@@ -450,20 +541,55 @@ class AttitudeIntegrator:
             saved = st.copy()
             raw = self._run_step_kind(g, h, None if out is None else out[:, :n])
             # A NaN or infinite sample poisons every later attitude of the product chain (and of the scan's
-            # block offsets), so a finite last attitude proves the input finite without a pass over it.
-            if n and not np.isfinite(raw[:, -1]).all():
+            # block offsets), so a finite last attitude proves the input finite without a pass over it; a huge
+            # step that the normalisation turned into a zero quaternion (first-order at 1e200 rad/s) shows as a
+            # last attitude off the unit sphere.
+            if n and not self._plausible(raw[:, -1]):
                 self._state = saved
                 _v.check_finite(g[0] if st.extra["single"] else g, "gyro")
+                self._check_steps(g, h)
                 raise ValueError(
                     "gyro: the step rotations overflow (|gyro| dt is too large to represent); check the units "
                     "and the time step"
                 )
         else:
+            self._check_steps(g, h)
             raw = self._run_model(g, h, ends, final=False)
         st.steps_in += n
         st.t_end = last
         self._count(raw)
         return raw
+
+    def _plausible(self, q_last: np.ndarray) -> bool:
+        """Finite, and unit to 1e-6 where the method keeps unit norm (normalised every step, or norm-preserving)."""
+        if not np.isfinite(q_last).all():
+            return False
+        unit = self.method in ("exact", "cayley") or (self.normalize != "none" and self.normalize_every == 1)
+        return not unit or bool((np.abs(np.einsum("...i,...i->...", q_last, q_last) - 1) <= 1e-6).all())
+
+    def _check_steps(self, g: np.ndarray, h: np.ndarray) -> None:
+        """Raise unless every step rotation |ω| h is at most MAX_STEP_ANGLE, naming the first sample beyond it.
+
+        Past it float64 no longer holds the angle of a step to 1 mrad, and the RK4, coning and baseline
+        arithmetic overflows into NaN (1e200 rad/s, or dt = 1e300).  One pass over the samples, which these
+        methods' finiteness check makes anyway.
+        """
+        with np.errstate(over="ignore", invalid="ignore"):
+            peak = np.max(np.abs(g), axis=(0, 2)) if g.size else np.zeros(0)
+            step = peak * self.scale * (h if h.shape[0] == peak.shape[0] else h[0])
+        bad = ~(step <= MAX_STEP_ANGLE)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            st = self._state
+            what = (
+                "increment"
+                if self.input == "increment"
+                else f"rate times its step ({float(h[min(k, h.shape[0] - 1)]):.3g} s)"
+            )
+            raise ValueError(
+                f"gyro sample {st.steps_in + k} turns by {float(step[k]):.3g} rad in one step ({what}), beyond "
+                f"{MAX_STEP_ANGLE:.3g} rad where float64 cannot hold a step's angle; check the units and the time step"
+            )
 
     def _finish_raw(self) -> np.ndarray:
         st = self._state
@@ -715,6 +841,13 @@ class AttitudeIntegrator:
                     stacklevel=4,
                 )
         return out
+
+
+def _count(value, name: str) -> int:
+    """A non-negative integer counter of a restored state, or ValueError naming it."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer) or value < 0:
+        raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
+    return int(value)
 
 
 _SINGULAR = {

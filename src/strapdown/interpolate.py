@@ -34,7 +34,7 @@ def _series(t, q, t_new, check: bool):
             f"t[{i}] = {float(tv[i])!r} is not after t[{i - 1}] = {float(tv[i - 1])!r}; "
             "times must be strictly increasing"
         )
-    qv = _v.quaternions(q, "q", check=check)
+    qv = _v.rotations(q, "q", check=check)
     if qv.ndim < 2 or qv.shape[0] != tv.shape[0]:
         raise ValueError(
             f"q must have shape (n, ..., 4) with n = len(t) = {tv.shape[0]} attitudes, got shape {qv.shape}"

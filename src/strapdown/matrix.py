@@ -39,7 +39,7 @@ def as_matrix(q, *, check: bool = True) -> np.ndarray:
            [ 1.,  0.,  0.],
            [ 0.,  0.,  1.]])
     """
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     shape = q.shape[:-1]
     rows = np.ascontiguousarray(q.reshape(-1, 4))
     out = np.empty((rows.shape[0], 3, 3), dtype=q.dtype)
@@ -97,6 +97,8 @@ def from_matrix(c, *, orthonormalize: bool = False, atol: float = 1e-5, check: b
     >>> from_matrix(yaw90)
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
+    if isinstance(atol, bool) or not isinstance(atol, int | float | np.integer | np.floating) or not atol >= 0:
+        raise ValueError(f"atol must be a non-negative number (the largest |CᵀC - I| accepted), got {atol!r}")
     c = _v.as_float_array(c, "c")
     if c.ndim < 2 or c.shape[-2:] != (3, 3):
         raise ValueError(f"c must have shape (..., 3, 3) (rotation matrices), got shape {c.shape}")

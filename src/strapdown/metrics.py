@@ -112,16 +112,23 @@ def allan_deviation(x, fs: float, taus=None, *, overlapping: bool = True) -> tup
 
     # The Allan variance ignores a constant offset (the second difference of a line is zero); removing the mean
     # first keeps the running sum small, so the differences of its far-apart values lose no digits.
-    centred = arr - arr.mean(axis=0)
+    # The deviation is linear in x, so each signal is scaled by a power of two (exact) to a peak in [0.5, 1):
+    # the squares below cannot overflow (x ~ 1e200 gave inf) or underflow.  In sample units (θ without the 1/fs,
+    # τ = m) fs cancels from d²/τ², so it cannot under- or overflow them either.
+    _, e = np.frexp(np.max(np.abs(arr), axis=0))
+    scaled = np.ldexp(arr, -e)
+    centred = scaled - scaled.mean(axis=0)
     theta = np.zeros((n + 1, *arr.shape[1:]))
     np.cumsum(centred, axis=0, out=theta[1:])
-    theta /= fs
     adev = np.empty((sizes.shape[0], *arr.shape[1:]))
     for i, m in enumerate(sizes):
         stride = 1 if overlapping else m
         d = theta[2 * m :: stride] - 2 * theta[m : n + 1 - m : stride] + theta[: n + 1 - 2 * m : stride]
-        tau = m / fs
-        adev[i] = np.sqrt(np.mean(d**2, axis=0) / (2 * tau**2))
+        adev[i] = np.sqrt(np.mean(d**2, axis=0) / (2.0 * m * m))
+    with np.errstate(over="ignore"):
+        adev = np.ldexp(adev, e)
+    if not np.isfinite(adev).all():
+        raise ValueError(f"the Allan deviation of x exceeds the largest float64: x reaches {np.abs(arr).max():.3g}")
     return sizes / fs, adev
 
 
@@ -149,14 +156,31 @@ def error_quaternion(q_est, q_ref) -> np.ndarray:
     """
     from .quaternion import multiply
 
-    est = _v.quaternions(q_est, "q_est", check=False, dtype=np.float64)
-    ref = _v.quaternions(q_ref, "q_ref", check=False, dtype=np.float64)
+    est = _unit_or_nan(q_est, "q_est")
+    ref = _unit_or_nan(q_ref, "q_ref")
+    _v.broadcast(("q_est", est.shape[:-1]), ("q_ref", ref.shape[:-1]))
     with np.errstate(invalid="ignore"):
-        est = est / np.linalg.norm(est, axis=-1, keepdims=True)
-        ref = ref / np.linalg.norm(ref, axis=-1, keepdims=True)
         ref = ref * np.array([1.0, -1.0, -1.0, -1.0])
         out = multiply(est, ref, check=False)
         return out / np.linalg.norm(out, axis=-1, keepdims=True)
+
+
+def _unit_or_nan(q, name: str) -> np.ndarray:
+    """Quaternions scaled to unit norm, any finite norm (a power of two first, exactly); NaN rows stay NaN.
+
+    A row that is neither NaN (occluded truth) nor a usable rotation, i.e. infinite or zero, is an error.
+    """
+    arr = _v.quaternions(q, name, check=False, dtype=np.float64)
+    with np.errstate(invalid="ignore"):
+        big = np.max(np.abs(arr), axis=-1)
+    bad = ~(big > 0) & ~np.isnan(big) | np.isinf(big)
+    if bad.any():
+        what = "infinite" if np.isinf(big[bad][0]) else "a zero quaternion"
+        raise ValueError(f"{name}{_v.first_index(bad)} is {what}; use NaN rows for missing attitudes")
+    _, e = np.frexp(big)
+    arr = np.ldexp(arr, -e[..., None])
+    with np.errstate(invalid="ignore"):
+        return arr / np.linalg.norm(arr, axis=-1, keepdims=True)
 
 
 def attitude_errors(q_est, q_ref) -> dict:
@@ -187,7 +211,8 @@ def attitude_errors(q_est, q_ref) -> dict:
     with np.errstate(invalid="ignore", divide="ignore"):
         return {
             "total": 2 * np.arccos(np.clip(np.abs(w), 0, 1)),
-            "heading": 2 * np.arctan(np.abs(z / w)),
+            # atan2(|z|, |w|) = atan(|z / w|) where w != 0, and 0 (not NaN) for a half turn about a horizontal axis
+            "heading": 2 * np.arctan2(np.abs(z), np.abs(w)),
             "inclination": 2 * np.arccos(np.clip(np.sqrt(w**2 + z**2), 0, 1)),
         }
 
@@ -205,7 +230,8 @@ def rmse(x, mask=None) -> float:
     Returns
     -------
     float
-        ``sqrt(nanmean(x[mask]²))``; NaN when no finite value is selected.
+        ``sqrt(nanmean(x[mask]²))``, NaN values (missing) left out; NaN when no value is selected.  An
+        infinite value is an error.
 
     Examples
     --------
@@ -213,16 +239,21 @@ def rmse(x, mask=None) -> float:
     >>> rmse([3.0, 4.0, float("nan")])
     3.5355339059327378
     """
-    x = np.asarray(x, dtype=np.float64)
+    x = _v.as_float_array(x, "x", dtype=np.float64)
     if mask is not None:
         mask = np.asarray(mask, dtype=bool).reshape(-1)
         if mask.shape != x.shape[:1]:
             raise ValueError(f"mask must have one entry per sample ({x.shape[0]}), got shape {mask.shape}")
         x = x[mask]
+    if np.isinf(x).any():
+        raise ValueError(f"x{_v.first_index(np.isinf(x))} is infinite; NaN marks a missing value, inf is an error")
     finite = np.isfinite(x)
     if not finite.any():
         return float("nan")
-    return float(np.sqrt(np.mean(x[finite] ** 2)))
+    # scaled by a power of two (exact) so that the squares neither overflow (1e200 gave inf) nor underflow
+    vals = x[finite]
+    _, e = np.frexp(np.max(np.abs(vals)))
+    return float(np.ldexp(np.sqrt(np.mean(np.ldexp(vals, -e) ** 2)), e))
 
 
 def remove_heading_offset(q_est, q_ref, mask=None) -> np.ndarray:
@@ -255,7 +286,7 @@ def remove_heading_offset(q_est, q_ref, mask=None) -> np.ndarray:
     """
     from .quaternion import multiply
 
-    est = np.asarray(q_est, dtype=np.float64)
+    est = _v.as_float_array(q_est, "q_est", dtype=np.float64)
     q = error_quaternion(est, q_ref)
     signed = 2 * np.arctan2(q[:, 3], q[:, 0])
     use = np.isfinite(signed) if mask is None else np.isfinite(signed) & np.asarray(mask, dtype=bool)
@@ -295,7 +326,7 @@ def rmse_errors(q_est, q_ref, mask=None, *, heading_offset: bool = False, degree
     {'total': 1.0, 'heading': 0.0, 'inclination': 1.0}
     """
     est = _v.quaternions(q_est, "q_est", check=False, dtype=np.float64)
-    ref = np.asarray(q_ref, dtype=np.float64)
+    ref = _v.as_float_array(q_ref, "q_ref", dtype=np.float64)
     if est.ndim != 2 or est.shape != ref.shape:
         raise ValueError(f"q_est and q_ref must both have shape (N, 4), got {est.shape} and {ref.shape}")
     if heading_offset:

@@ -63,6 +63,11 @@ def identity(shape=(), dtype=np.float64) -> np.ndarray:
            [1., 0., 0., 0.]])
     """
     shape = (shape,) if np.isscalar(shape) else tuple(shape)
+    if not all(isinstance(n, int | np.integer) and not isinstance(n, bool) and n >= 0 for n in shape):
+        raise ValueError(f"shape must be a non-negative integer or a tuple of them, got {shape!r}")
+    dtype = np.dtype(dtype)
+    if dtype not in (np.float32, np.float64):
+        raise ValueError(f"dtype must be float32 or float64, got {dtype}")
     out = np.zeros((*shape, 4), dtype=dtype)
     out[..., 0] = 1
     return out
@@ -101,15 +106,25 @@ def multiply(p, q, *, check: bool = True) -> np.ndarray:
     """
     p = _v.quaternions(p, "p", check=check, nonzero=False)
     q = _v.quaternions(q, "q", check=check, nonzero=False)
-    shape = np.broadcast_shapes(p.shape[:-1], q.shape[:-1])
+    shape = _v.broadcast(("p", p.shape[:-1]), ("q", q.shape[:-1]))
     dtype = _v.result_dtype(p, q)
     p_rows = _rows(p, shape, dtype)
     q_rows = _rows(q, shape, dtype)
     out = np.empty((int(np.prod(shape)), 4), dtype=dtype)
     from ._quaternion_numba import multiply_rows
 
-    multiply_rows(p_rows, q_rows, out)
-    return out.reshape((*shape, 4))
+    with np.errstate(over="ignore", invalid="ignore"):
+        multiply_rows(p_rows, q_rows, out)
+    out = out.reshape((*shape, 4))
+    if check and not np.isfinite(out).all():
+        bad = ~np.isfinite(out).all(axis=-1)
+        i = _v.first_index(bad)
+        pn, qn = np.broadcast_to(norm(p), shape)[bad][0], np.broadcast_to(norm(q), shape)[bad][0]
+        raise ValueError(
+            f"p ⊗ q{i} overflows: |p| = {pn:.3g} and |q| = {qn:.3g}, and the product's norm |p| |q| exceeds the "
+            f"largest {dtype} ({np.finfo(dtype).max:.3g}); normalise the factors first"
+        )
+    return out
 
 
 def conjugate(q, *, check: bool = True) -> np.ndarray:
@@ -161,7 +176,20 @@ def norm(q, *, check: bool = True) -> np.ndarray:
     array([2., 5.])
     """
     q = _v.quaternions(q, "q", check=check, nonzero=False)
-    return np.sqrt(np.einsum("...i,...i->...", q, q))
+    n2 = np.einsum("...i,...i->...", q, q)
+    info = np.finfo(q.dtype)
+    fine = (n2 >= info.tiny) & (n2 <= info.max)  # |q|² neither under- nor overflowed
+    if fine.all() or not check:
+        return np.sqrt(n2)
+    # |q| = 2^e |q 2^-e| with the largest component scaled into [0.5, 1) by a power of two (exact): no square
+    # can overflow or underflow, so 1e200 and 1e-200 get their norms to rounding
+    _, e = np.frexp(np.max(np.abs(q), axis=-1))
+    with np.errstate(over="ignore"):
+        scaled = np.ldexp(q, -e[..., None])
+        out = np.where(fine, np.sqrt(n2), np.ldexp(np.sqrt(np.einsum("...i,...i->...", scaled, scaled)), e))
+    if not np.isfinite(out).all():
+        raise ValueError(f"q{_v.first_index(~np.isfinite(out))} has a norm beyond the largest {q.dtype}")
+    return out.astype(q.dtype, copy=False)
 
 
 def inverse(q, *, check: bool = True) -> np.ndarray:
@@ -198,7 +226,8 @@ def normalize(q, method: str = "exact", *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
+        Non-zero quaternions: any finite norm for ``"exact"`` (rows far from unit norm are first scaled by a
+        power of two, exactly), ``|q|²`` within 0.5 of 1 for ``"series"``.
     method : {"exact", "series"}
         ``"exact"`` divides by ``|q|``.  ``"series"`` multiplies by ``(3 - |q|²)/2``, the first-order series of
         ``1/√(|q|²)`` about 1 (nabbla part 9, eqs. 6-7): no division and no square root, for fixed-point or
@@ -221,10 +250,17 @@ def normalize(q, method: str = "exact", *, check: bool = True) -> np.ndarray:
     0.99985
     """
     _v.choice(method, "method", ("exact", "series"))
+    if method == "exact":
+        q = _v.rotations(q, "q", check=check)
+        return q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
     q = _v.quaternions(q, "q", check=check)
     n2 = np.einsum("...i,...i->...", q, q)[..., None]
-    if method == "exact":
-        return q / np.sqrt(n2)
+    if check and not (np.abs(n2 - 1) <= 0.5).all():
+        bad = ~(np.abs(n2[..., 0] - 1) <= 0.5)
+        raise ValueError(
+            f"q{_v.first_index(bad)} has |q|² = {float(n2[..., 0][bad][0]):.3g}: the series normalisation is for "
+            "|q|² within 0.5 of 1 (its error grows as (3/8)(|q|² - 1)²); use method='exact'"
+        )
     return q * ((3 - n2) / 2)
 
 
@@ -242,7 +278,7 @@ def _sinc(a: np.ndarray) -> np.ndarray:
     small = a < 1e-4
     with np.errstate(invalid="ignore", divide="ignore"):
         direct = np.sin(a) / a
-    a2 = a * a
+    a2 = np.where(small, a, 0) ** 2  # the series only where it is used: a² of 1e78 would overflow (and warn)
     return np.where(small, 1 - a2 / 6 * (1 - a2 / 20), direct)
 
 
@@ -257,7 +293,8 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     q : array_like, shape (..., 4)
         Quaternions ``[w, x, y, z]``.
     check : bool
-        Reject NaN and infinities (default).
+        Reject NaN and infinities (default), and a scalar part w whose e^w is not a normal number (outside
+        [-708.3, 709.7] in float64, [-87.3, 88.7] in float32): the result would overflow or lose its bits.
 
     Returns
     -------
@@ -272,6 +309,8 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
     q = _v.quaternions(q, "q", check=check, nonzero=False)
+    if check:
+        _exp_range(q[..., 0], "q", "w")
     v = q[..., 1:]
     a = _norm3(v)
     scale = np.exp(q[..., 0])
@@ -279,6 +318,18 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     out[..., 0] = scale * np.cos(a)
     out[..., 1:] = (scale * _sinc(a))[..., None] * v
     return out
+
+
+def _exp_range(w: np.ndarray, name: str, what: str) -> None:
+    """Raise unless e^w is a normal number of w's dtype (|exp q| = e^w would overflow, or lose its bits)."""
+    info = np.finfo(w.dtype)
+    lo, hi = np.log(info.tiny), np.log(info.max)
+    bad = ~((w >= lo) & (w <= hi))
+    if bad.any():
+        raise ValueError(
+            f"{name}{_v.first_index(bad)} has {what} = {float(w[bad][0]):.6g}, and e^({what}) = |result| "
+            f"{'overflows' if w[bad][0] > 0 else 'underflows'} {w.dtype}: {what} must lie in [{lo:.1f}, {hi:.1f}]"
+        )
 
 
 def _half_angle(q: np.ndarray):
@@ -345,12 +396,15 @@ def power(q, t, *, check: bool = True) -> np.ndarray:
     t : array_like, shape (...)
         Real exponents, broadcast against the leading axes of ``q``.
     check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Reject NaN, infinities and zero quaternions (default), and results out of range: ``|q|^t`` must be
+        a normal number, and ``|t| θ/2`` (θ the angle of q) at most ``1e-3/ε`` rad (4.5e12 in float64, 8.4e3
+        in float32), beyond which rounding scrambles the angle of the result by more than 1 mrad.
 
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Powers.  As for :func:`log`, ``q = -|q|`` takes the x axis.
+        Powers.  As for :func:`log`, ``q = -|q|`` takes the x axis.  float32 stays float32, also with a Python
+        float ``t``.
 
     Examples
     --------
@@ -360,11 +414,29 @@ def power(q, t, *, check: bool = True) -> np.ndarray:
     >>> quat.power(q90, 0.5)     # 45 deg about z
     array([0.92387953, 0.        , 0.        , 0.38268343])
     """
+    t_in = t
     q = _v.quaternions(q, "q", check=check)
-    q, t = _v.promote(q, _v.finite(t, "t", check=check))
+    t = _v.finite(t, "t", check=check)
+    if _v.weak(t_in):
+        t = t.astype(q.dtype)
+    q, t = _v.promote(q, t)
+    _v.broadcast(("q", q.shape[:-1]), ("t", t.shape))
     lq = log(q, check=False)
     lq, t = np.broadcast_arrays(lq, t[..., None])
-    return exp(lq * t, check=False)
+    lt = lq * t
+    if check:
+        # |q^t| = e^(t ln|q|) must be representable, and the angle t θ/2 known to 1 mrad: beyond |t θ/2| ε ≈ 1e-3
+        # rounding has scrambled it (power(q, 1e20) of a unit q gave a zero quaternion)
+        _exp_range(lt[..., 0], "q^t", "t ln|q|")
+        turn = _norm3(lt[..., 1:])
+        limit = 1e-3 / np.finfo(q.dtype).eps
+        if not (turn <= limit).all():
+            bad = ~(turn <= limit)
+            raise ValueError(
+                f"q^t{_v.first_index(bad)}: t times the half angle is {float(turn[bad][0]):.3g} rad, beyond "
+                f"{limit:.3g} rad, where {q.dtype} rounding leaves the angle of the result unknown"
+            )
+    return exp(lt, check=False)
 
 
 def rotate(q, v, *, check: bool = True) -> np.ndarray:
@@ -375,7 +447,8 @@ def rotate(q, v, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero attitude quaternions (body to reference).
+        Non-zero attitude quaternions (body to reference), any finite norm (1e200 and 1e-300 are exact: rows
+        far from unit norm are scaled by a power of two first).
     v : array_like, shape (..., 3)
         Vectors in the body frame; leading axes broadcast with those of ``q``.
     check : bool
@@ -394,14 +467,23 @@ def rotate(q, v, *, check: bool = True) -> np.ndarray:
     >>> quat.rotate(q90z, [1.0, 0.0, 0.0]).round(12)
     array([0., 1., 0.])
     """
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     q, v = _v.promote(q, _v.vectors(v, "v", check=check))
+    if check:
+        _v.broadcast(("q", q.shape[:-1]), ("v", v.shape[:-1]))
     w = q[..., :1]
     u = q[..., 1:]
     s = 2 / np.einsum("...i,...i->...", q, q)[..., None]
-    uv = np.cross(u, v)
-    # v + (2/|q|²) (w (u×v) + u×(u×v)): the sandwich product expanded, exact for any non-zero q.
-    return v + s * (w * uv + np.cross(u, uv))
+    with np.errstate(over="ignore", invalid="ignore"):
+        uv = np.cross(u, v)
+        # v + (2/|q|²) (w (u×v) + u×(u×v)): the sandwich product expanded, exact for any non-zero q.
+        out = v + s * (w * uv + np.cross(u, uv))
+    if check and not np.isfinite(out).all():
+        raise ValueError(
+            f"v{_v.first_index(~np.isfinite(out).all(axis=-1))} is too long to rotate in {out.dtype} (the "
+            f"intermediate products overflow beyond about {np.finfo(out.dtype).max / 4:.3g})"
+        )
+    return out
 
 
 def angle_between(p, q, *, check: bool = True) -> np.ndarray:
@@ -430,8 +512,10 @@ def angle_between(p, q, *, check: bool = True) -> np.ndarray:
     >>> round(float(np.degrees(quat.angle_between([1, 0, 0, 0], q90z))), 9)
     90.0
     """
-    p = _v.quaternions(p, "p", check=check)
-    q = _v.quaternions(q, "q", check=check)
+    p = _v.rotations(p, "p", check=check)
+    q = _v.rotations(q, "q", check=check)
+    if check:
+        _v.broadcast(("p", p.shape[:-1]), ("q", q.shape[:-1]))
     r = multiply(conjugate(p, check=False), q, check=False)
     s = _norm3(r[..., 1:])
     return 2 * np.arctan2(s, np.abs(r[..., 0]))
@@ -465,10 +549,12 @@ def slerp(p, q, t, *, check: bool = True) -> np.ndarray:
     array([[1.        , 0.        , 0.        , 0.        ],
            [0.92387953, 0.        , 0.        , 0.38268343]])
     """
-    p = normalize(p, check=check)
-    q = normalize(q, check=check)
+    p = normalize(_v.rotations(p, "p", check=check), check=False)
+    q = normalize(_v.rotations(q, "q", check=check), check=False)
+    t_in = t
     t = _v.finite(t, "t", check=check)
-    dtype = _v.result_dtype(p, q, t)
+    dtype = _v.result_dtype(p, q) if _v.weak(t_in) else _v.result_dtype(p, q, t)
+    _v.broadcast(("p", p.shape[:-1]), ("q", q.shape[:-1]), ("t", t.shape))
     r = multiply(conjugate(p, check=False), q, check=False).astype(dtype, copy=False)
     r = np.where(r[..., :1] < 0, -r, r)  # shorter arc
     _, half, unit = _half_angle(r)

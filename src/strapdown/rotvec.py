@@ -86,7 +86,7 @@ def as_rotvec(q, degrees: bool = False, *, check: bool = True) -> np.ndarray:
     >>> as_rotvec([np.cos(0.05), 0.0, np.sin(0.05), 0.0]).round(12)    # 0.1 rad about y
     array([0. , 0.1, 0. ])
     """
-    q = canonical(_v.quaternions(q, "q", check=check), check=False)
+    q = canonical(_v.rotations(q, "q", check=check), check=False)
     _, half, unit = _half_angle(q)
     out = (2 * half)[..., None] * unit
     return np.rad2deg(out) if degrees else out
@@ -117,7 +117,13 @@ def from_axis_angle(axis, angle, degrees: bool = False, *, check: bool = True) -
     >>> from_axis_angle([0, 0, 2], 90, degrees=True)
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
-    axis, angle = _v.promote(_v.vectors(axis, "axis", check=check), _v.finite(angle, "angle", check=check))
+    axis_arr = _v.vectors(axis, "axis", check=check)
+    angle_arr = _v.finite(angle, "angle", check=check)
+    if _v.weak(angle):  # a Python float keeps float32 axes float32
+        angle_arr = angle_arr.astype(axis_arr.dtype)
+    axis, angle = _v.promote(axis_arr, angle_arr)
+    if check:
+        _v.broadcast(("axis", axis.shape[:-1]), ("angle", angle.shape))
     length = _norm3(axis)
     if check and not (length > 0).all():
         raise ValueError(f"axis{_v.first_index(~(length > 0))} is a zero vector; a rotation axis must be non-zero")
@@ -158,7 +164,7 @@ def as_axis_angle(q, degrees: bool = False, *, check: bool = True) -> tuple[np.n
     >>> axis.round(6), round(float(angle), 9)
     (array([0.57735, 0.57735, 0.57735]), 120.0)
     """
-    q = canonical(_v.quaternions(q, "q", check=check), check=False)
+    q = canonical(_v.rotations(q, "q", check=check), check=False)
     s, half, axis = _half_angle(q)
     axis[s == 0] = (1, 0, 0)
     angle = 2 * half
@@ -233,11 +239,19 @@ def as_gibbs(q, convention: str = "gajda", *, check: bool = True) -> np.ndarray:
     (array([0., 0., 2.]), array([0., 0., 1.]))
     """
     _v.choice(convention, "convention", tuple(_GIBBS_FACTOR))
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     w = q[..., 0]
     if check and (w == 0).any():
         raise ValueError(
             f"q{_v.first_index(w == 0)} is a 180° rotation (w = 0): its Gibbs vector is infinite; "
             "use as_rotvec or as_axis_angle instead"
         )
-    return (_GIBBS_FACTOR[convention] / w)[..., None] * q[..., 1:]
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = (_GIBBS_FACTOR[convention] / w)[..., None] * q[..., 1:]
+    if check and not np.isfinite(out).all():
+        bad = ~np.isfinite(out).all(axis=-1)
+        raise ValueError(
+            f"q{_v.first_index(bad)} is too close to a 180° rotation (w = {float(w[bad][0]):.3g} against a vector part "
+            f"of {float(_norm3(q[..., 1:])[bad][0]):.3g}): its Gibbs vector overflows {out.dtype}; use as_rotvec"
+        )
+    return out

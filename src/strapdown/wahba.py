@@ -132,13 +132,29 @@ def _solve(method: int, body, reference, weights, normalize: bool, return_covari
     n = int(np.prod(lead))
     out = np.empty((n, 4))
     cov = np.empty((n if return_covariance else 1, 3, 3))
+    # Each epoch's weights scaled by a power of two so that the largest is in [0.5, 1): exact, so the attitude
+    # (which depends on their ratios only) is unchanged, while the information matrix Σ a (I - b̂ b̂ᵀ) and its
+    # inverse no longer over- or underflow (weights 1e200 or 1e-200 gave an infinite covariance)
+    a_max = a.max(axis=-1)
+    _, e = np.frexp(a_max)
+    a = np.ldexp(a, -e[:, None])
     from ._wahba_numba import wahba_rows
 
     wahba_rows(method, b, r, a, bool(normalize), out, cov, bool(return_covariance))
     q = out.reshape((*lead, 4)).astype(dtype, copy=False)
-    if return_covariance:
-        return q, cov.reshape((*lead, 3, 3)).astype(dtype, copy=False)
-    return q
+    if not return_covariance:
+        return q
+    with np.errstate(over="ignore"):
+        p = np.ldexp(cov, -np.broadcast_to(e, (cov.shape[0],))[:, None, None])
+    overflow = np.isfinite(cov).all(axis=(-2, -1)) & ~np.isfinite(p).all(axis=(-2, -1))
+    if check and overflow.any():
+        k = int(np.flatnonzero(overflow)[0])
+        at = _v.first_index(overflow.reshape(lead))
+        raise ValueError(
+            f"covariance{at} overflows float64: the weights{at} "
+            f"(largest {float(a_max[min(k, a_max.shape[0] - 1)]):.3g}) are too small to invert; scale them up"
+        )
+    return q, p.reshape((*lead, 3, 3)).astype(dtype, copy=False)
 
 
 def davenport(

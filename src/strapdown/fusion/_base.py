@@ -21,7 +21,7 @@ from numbers import Real
 import numpy as np
 
 from .. import _validate as _v
-from ..frames import frame_quaternion
+from ..frames import check_frame, frame_quaternion
 from ..quaternion import multiply, rotate
 
 __all__ = [
@@ -41,6 +41,12 @@ FLAG_INVERTED = 8  # within 1e-6 of upside down: the tilt quaternion chart is si
 FLAG_BIAS_AT_LIMIT = 16  # the gyro bias estimate lies beyond its prior's spread (bias_limit) on some axis
 
 GRAVITY = 9.80665
+
+# Accepted input range (docs/guide/reliability.md): beyond these the kernels' squares and products overflow into
+# NaN, and no sensor or clock comes near them.
+MAX_SAMPLE = 1e100  # largest |component| of a gyro, accelerometer or magnetometer sample, in any unit
+MAX_DT = 1e9  # s (32 years): the longest sample interval
+MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps  # rad: |gyr| dt of one sample, as in strapdown.integrate
 
 
 @dataclass
@@ -124,9 +130,24 @@ def _sensor(v, name: str, missing: bool) -> np.ndarray:
     return arr
 
 
+def _in_range(arr: np.ndarray, name: str) -> None:
+    """Raise if a sample has a component beyond MAX_SAMPLE (NaN rows, "no sample", are skipped)."""
+    with np.errstate(invalid="ignore"):
+        big = np.abs(arr).max(axis=-1, initial=0.0) > MAX_SAMPLE
+    if big.any():
+        k = int(np.flatnonzero(big)[0])
+        raise _v.SampleError(
+            f"{name}[{k}] = {arr[k].tolist()} is beyond {MAX_SAMPLE:.0e} in magnitude: no sensor reads that; "
+            "check the units",
+            k,
+        )
+
+
 def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
     a = _sensor(acc, "acc", missing)
+    _in_range(g, "gyr")
+    _in_range(a, "acc")
     if g.ndim != 2 or a.ndim != 2:
         raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
@@ -134,6 +155,7 @@ def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
     m = None
     if mag is not None:
         m = _sensor(mag, "mag", missing)
+        _in_range(m, "mag")
         if m.shape != g.shape:
             raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
@@ -161,11 +183,14 @@ class Estimator:
     # True: NaN rows of acc and mag mean "no sample" (sensors at different rates); such an estimator must take its
     # heading from the first field it gets, as 9D may start before the magnetometer's first sample
     missing_samples = False
+    # the layout of ``state``: the shape of every entry (() for a number), and the entries that are attitudes
+    _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
+    _unit_keys: tuple[str, ...] = ("q",)
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
-        self.frame = frame
-        self._to_out = frame_quaternion(self.natural_frame, frame)  # validates the frame name
+        self.frame = check_frame(frame, "frame", "reference")
+        self._to_out = frame_quaternion(self.natural_frame, frame)
         self._to_in = self._to_out * np.array([1.0, -1.0, -1.0, -1.0])
         self._q0 = None if q0 is None else _v.quaternions(q0, "q0", dtype=np.float64).reshape(4)
         self._state: dict | None = None
@@ -190,14 +215,19 @@ class Estimator:
         if not isinstance(value, dict) or value.get("_kind") != kind:
             raise ValueError(f"state must be a dict taken from the .state of a {kind}")
         value = dict(value)
-        _v.quaternions(value.get("q"), "state['q']", dtype=np.float64)  # finite, non-zero, shape (4,)
-        for k, v in value.items():
-            if isinstance(v, np.ndarray) and v.dtype.kind == "f" and not np.isfinite(v).all():
-                raise ValueError(f"state[{k!r}] holds NaN or infinities")
         del value["_kind"]
-        self._t_last = value.pop("_t_last", None)
-        self._use_mag = value.pop("_use_mag", None)
-        self._state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in value.items()}
+        t_last = value.pop("_t_last", None)
+        use_mag = value.pop("_use_mag", None)
+        if t_last is not None and not (isinstance(t_last, Real) and np.isfinite(t_last)):
+            raise ValueError(f"state['_t_last'] must be None or a finite time in seconds, got {t_last!r}")
+        if not isinstance(use_mag, bool | np.bool_):
+            raise ValueError(f"state['_use_mag'] must be True or False, got {use_mag!r}")
+        # The kernels index these arrays without bounds checks: a short or mis-shaped array would make them read
+        # or write outside it, so every entry is checked against the class's layout before it gets there.
+        state = _checked_state(value, dict(self._state_layout), self._unit_keys)
+        self._t_last = None if t_last is None else float(t_last)
+        self._use_mag = bool(use_mag)
+        self._state = state
 
     @property
     def attitude(self) -> np.ndarray | None:
@@ -268,14 +298,20 @@ class Estimator:
             One attitude per sample, and the filter's extra outputs.
         """
         g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
+        # what a diverging chunk puts back (the kernels update the state arrays in place)
+        kept = None
+        if self._state is not None:
+            kept = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self._state.items()}
+        saved = (kept, self._t_last, self._use_mag)
         if self._use_mag is not None and m is not None and not self._use_mag:
             raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
         n = g.shape[0]
         dts = self._dts(n, dt, t)
+        _check_steps(g, dts)
         extra_in = self._prepare_inputs(n, **inputs)
         if self._state is None:
             if n == 0:
-                return self._empty()
+                return float32_if(self._empty(), gyr, acc, mag)
             self._use_mag = m is not None
             if self._q0 is None:
                 q_init = self._initial(g, a, m, dts, extra_in)
@@ -286,10 +322,19 @@ class Estimator:
                 q_init = multiply(self._to_in, self._q0)
             self._state = self._new_state(q_init / np.linalg.norm(q_init), g, a, m, dts, extra_in)
         out = self._run(g, a, m, dts, extra_in)
+        if n and not np.isfinite(out.q[-1]).all():
+            # NaN propagates along the filter's chain, so the last attitude shows whether any sample diverged
+            k = int(np.flatnonzero(~np.isfinite(out.q).all(axis=-1))[0])
+            self._state, self._t_last, self._use_mag = saved
+            raise _v.SampleError(
+                f"the filter diverged at sample {k} (gyr {g[k].tolist()}, acc {a[k].tolist()}); the state before this "
+                "chunk is kept",
+                k,
+            )
         if out.q.size and self.frame != self.natural_frame:
             out.q = multiply(self._to_out, out.q, check=False)
         out.frame = self.frame
-        return out
+        return float32_if(out, gyr, acc, mag)
 
     def _empty(self) -> Estimate:
         # the same fields as a non-empty result, so that callers need no special case for an empty chunk
@@ -323,6 +368,49 @@ class Estimator:
         raise NotImplementedError
 
 
+# How far from unit norm a restored attitude may be: float32 storage and text round trips stay far inside it, a
+# corrupted or hand-made quaternion does not.  The kernels assume unit attitudes (a norm of 10 grows to 1e205).
+_UNIT_TOL = 1e-5
+
+
+def _checked_state(value: dict, shapes: dict, unit_keys: tuple) -> dict:
+    """A validated copy of a state dict, or ValueError naming the entry.
+
+    Exactly the keys of ``shapes``, float64 arrays of those shapes, finite, and unit attitudes under ``unit_keys``
+    (renormalised unless within rounding of 1).
+    """
+    missing = [k for k in shapes if k not in value]
+    if missing:
+        raise ValueError(f"state has no {', '.join(repr(k) for k in missing)}; take the state from .state")
+    unknown = [k for k in value if k not in shapes]
+    if unknown:
+        raise ValueError(f"state has unknown entries {', '.join(repr(k) for k in unknown)}")
+    out = {}
+    for key, shape in shapes.items():
+        name = f"state[{key!r}]"
+        v = value[key]
+        if v is None or isinstance(v, str | bytes | dict):
+            raise ValueError(f"{name} must be {_shape_text(shape)}, got {type(v).__name__}")
+        arr = _v.as_float_array(v, name, dtype=np.float64)
+        if arr.shape != shape:
+            raise ValueError(f"{name} must be {_shape_text(shape)}, got shape {arr.shape}")
+        _v.check_finite(arr, name)
+        if key in unit_keys:
+            # scaled by a power of two first: no overflow for a corrupted 1e200
+            _, e = np.frexp(np.max(np.abs(arr)))
+            norm = float(np.ldexp(np.sqrt(np.sum(np.ldexp(arr, -e) ** 2)), e))
+            if not abs(norm - 1.0) <= _UNIT_TOL:
+                raise ValueError(f"{name} must be a unit quaternion, got norm {norm:.6g}")
+            if abs(norm - 1.0) > 1e-12:  # beyond the rounding a kernel leaves: restore bit for bit otherwise
+                arr = arr / norm
+        out[key] = float(arr) if shape == () else arr.copy()
+    return out
+
+
+def _shape_text(shape: tuple) -> str:
+    return "a number" if shape == () else f"an array of shape {shape}"
+
+
 def params_of(cls, params, owner: str):
     """A parameter object of ``cls`` from None (the defaults), an instance, or a mapping of overrides by name.
 
@@ -347,6 +435,38 @@ def params_of(cls, params, owner: str):
         if isinstance(getattr(defaults, name), Real) and not isinstance(value, Real):
             raise ValueError(f"{owner} parameter {name} must be a number, got {value!r}")
     return replace(defaults, **params)
+
+
+def float32_if(est: Estimate, *inputs) -> Estimate:
+    """``est`` with float32 arrays when every given input array is float32 (float32 in, float32 out)."""
+    given = [x for x in inputs if x is not None]
+    if not given or not all(isinstance(x, np.ndarray) and x.dtype == np.float32 for x in given):
+        return est
+    est.q = est.q.astype(np.float32)
+    if est.bias is not None:
+        est.bias = est.bias.astype(np.float32)
+    est.extra = {
+        k: (v.astype(np.float32) if isinstance(v, np.ndarray) and v.dtype == np.float64 else v)
+        for k, v in est.extra.items()
+    }
+    return est
+
+
+def _check_steps(g: np.ndarray, dts: np.ndarray) -> None:
+    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE."""
+    if not (dts <= MAX_DT).all():
+        k = int(np.flatnonzero(~(dts <= MAX_DT))[0])
+        raise _v.SampleError(
+            f"sample {k} lasts {dts[k]:.3g} s, beyond {MAX_DT:.0e} s; check the time unit of dt or t", k
+        )
+    step = np.abs(g).max(axis=-1, initial=0.0) * dts
+    if not (step <= MAX_STEP_ANGLE).all():
+        k = int(np.flatnonzero(~(step <= MAX_STEP_ANGLE))[0])
+        raise _v.SampleError(
+            f"gyr[{k}] turns by {step[k]:.3g} rad in one sample, beyond {MAX_STEP_ANGLE:.3g} rad where float64 "
+            "cannot hold a step's angle; check the units and the time step",
+            k,
+        )
 
 
 def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarray) -> np.ndarray:
@@ -389,7 +509,7 @@ def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (4,)
-        Unit quaternion.
+        Unit quaternion (float32 when the inputs are).
 
     Examples
     --------
@@ -400,9 +520,26 @@ def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
     >>> initial_attitude([0.0, 0.0, 9.81], [0.0, 20.0, -40.0], "ENU").round(12)   # y axis points north
     array([1., 0., 0., 0.])
     """
+    out_dtype = _v.result_dtype(*(_v.as_float_array(x, n) for x, n in ((acc, "acc"), (mag, "mag")) if x is not None))
+    return _initial_attitude(acc, mag, frame).astype(out_dtype, copy=False)
+
+
+def _one_vector(v, name: str) -> np.ndarray:
+    """One 3-vector scaled by a power of two to a largest component in [0.5, 1), exactly.
+
+    Only its direction is used, and the norms below then neither overflow (1e200) nor underflow.
+    """
+    arr = _v.vectors(v, name, dtype=np.float64)
+    if arr.shape != (3,):
+        raise ValueError(f"{name} must be one sample of shape (3,), got shape {arr.shape}")
+    _, e = np.frexp(np.max(np.abs(arr)))
+    return np.ldexp(arr, -e)
+
+
+def _initial_attitude(acc, mag, frame: str) -> np.ndarray:
     from ..matrix import from_matrix
 
-    a = _v.vectors(acc, "acc", dtype=np.float64).reshape(3)
+    a = _one_vector(acc, "acc")
     na = np.linalg.norm(a)
     if not na > 0:
         raise ValueError("acc is zero: no direction of gravity to start from")
@@ -416,7 +553,7 @@ def initial_attitude(acc, mag=None, frame: str = "ENU") -> np.ndarray:
         else:
             q = np.array([c, up[1] / (2 * c), -up[0] / (2 * c), 0.0])
         return multiply(to_frame, q)
-    m = _v.vectors(mag, "mag", dtype=np.float64).reshape(3)
+    m = _one_vector(mag, "mag")
     east = np.cross(m, up)
     ne = np.linalg.norm(east)
     if not ne > 1e-9 * np.linalg.norm(m):

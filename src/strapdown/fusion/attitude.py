@@ -355,6 +355,9 @@ class AttitudeEstimator(Estimator):
     estimates_bias = True
     reports_flags = True
     missing_samples = True
+    # state layout, checked when a state is restored (fusion/_base.py): the kernel indexes it without bounds checks
+    _state_layout = (("q", (4,)), ("covariance", (6, 6)), *((name, (size,)) for name, _, size in _LAYOUT))
+    _unit_keys = ("q", "q_gyro", "q_correction")
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
@@ -383,7 +386,7 @@ class AttitudeEstimator(Estimator):
             Attitudes, bias, its standard deviation (``extra["bias_sigma"]``) and flags.
         """
         if known_acc is not None:
-            a = np.asarray(acc, dtype=np.float64)
+            a = _v.vectors(acc, "acc", check=False, dtype=np.float64)  # NaN rows allowed; complex refused
             known = _v.vectors(known_acc, "known_acc", dtype=np.float64)
             if known.shape != a.shape:
                 raise ValueError(f"known_acc must have the shape of acc {a.shape}, got {known.shape}")
@@ -599,8 +602,10 @@ def attitude_offline(
     f = p.offline_time_factor
     po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
     g = _v.vectors(gyr, "gyr", dtype=np.float64)
-    a = np.asarray(acc, dtype=np.float64)
-    m = None if mag is None else np.asarray(mag, dtype=np.float64)
+    # shape and dtype here (NaN rows mean no sample; the forward pass checks the values): a complex acc lost its
+    # imaginary part in asarray, and a scalar mag (attitude_offline(g, a, 0.5)) gave an IndexError
+    a = _v.vectors(acc, "acc", check=False, dtype=np.float64)
+    m = None if mag is None else _v.vectors(mag, "mag", check=False, dtype=np.float64)
     # 1. the bias and scale: forward and backward passes, combined per sample by inverse variance (the
     # two-filter smoother: each pass has seen one side of the sample, independently)
     first = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU

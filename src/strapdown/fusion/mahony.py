@@ -68,6 +68,7 @@ class Mahony(Estimator):
     """
 
     estimates_bias = True
+    _state_layout = (("q", (4,)), ("bias", (3,)))
 
     def __init__(self, params: MahonyParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or MahonyParams(), q0=q0, frame=frame)

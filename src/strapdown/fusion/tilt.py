@@ -52,7 +52,7 @@ import numpy as np
 from .. import _validate as _v
 from ..euler import from_euler
 from ..quaternion import rotate
-from ._base import GRAVITY, Estimate, Estimator
+from ._base import GRAVITY, Estimate, Estimator, float32_if
 
 __all__ = [
     "TiltEstimator",
@@ -96,7 +96,7 @@ def tilt_from_quaternion(q, *, check: bool = True) -> tuple[np.ndarray, np.ndarr
     >>> e.round(6) + 0.0, round(float(heading), 6), bool(inverted)     # e1 is -3e-18: + 0.0 drops the sign
     (array([0.996195, 0.      , 0.087156, 0.      ]), 0.698132, False)
     """
-    q = _v.quaternions(q, "q", check=check)
+    q = _v.rotations(q, "q", check=check)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
     w, x, y, z = (q[..., i] for i in range(4))
     n = np.sqrt(w * w + z * z)
@@ -148,15 +148,19 @@ def tilt_from_up(up) -> np.ndarray:
     array([0.92388 , 0.382683, 0.      , 0.      ])
     """
     u = _v.vectors(up, "up")
-    norm = np.linalg.norm(u, axis=-1, keepdims=True)
-    if not (norm > 0).all():
-        raise ValueError(f"up{_v.first_index(~(norm[..., 0] > 0))} is a zero vector")
-    u = u / norm
+    # scaled by the largest component first: |up|² overflows from 1e154 (the norm became inf and the tilt
+    # quaternion of [1e200, 0, 1e200] had norm 0.707) and underflows below 1e-154
+    big = np.max(np.abs(u), axis=-1, keepdims=True)
+    if not (big > 0).all():
+        raise ValueError(f"up{_v.first_index(~(big[..., 0] > 0))} is a zero vector")
+    u = u / big
+    u = u / np.linalg.norm(u, axis=-1, keepdims=True)
     e0 = np.sqrt(np.maximum(0.0, 0.5 * (1 + u[..., 2])))
     down = e0 < 1e-9
     safe = np.where(down, 1.0, e0)
     e = np.stack([e0, u[..., 1] / (2 * safe), -u[..., 0] / (2 * safe), np.zeros_like(e0)], axis=-1)
-    return np.where(down[..., None], np.array([0.0, 1.0, 0.0, 0.0]), e) + 0.0  # no -0.0
+    half_turn = np.array([0.0, 1.0, 0.0, 0.0], dtype=u.dtype)
+    return np.where(down[..., None], half_turn, e) + u.dtype.type(0)  # no -0.0; float32 stays float32
 
 
 def tilt_from_pitch_roll(pitch, roll, degrees: bool = False) -> np.ndarray:
@@ -182,6 +186,7 @@ def tilt_from_pitch_roll(pitch, roll, degrees: bool = False) -> np.ndarray:
     """
     p = _v.finite(pitch, "pitch")
     r = _v.finite(roll, "roll")
+    _v.broadcast(("pitch", p.shape), ("roll", r.shape))
     p, r = np.broadcast_arrays(p, r)
     q = from_euler(np.stack([np.zeros_like(p), p, r], axis=-1), "ZYX", degrees)
     return tilt_from_quaternion(q, check=False)[0]
@@ -221,10 +226,20 @@ def tilt_rates(e, omega) -> tuple[np.ndarray, np.ndarray]:
     p, q, r = w[..., 0], w[..., 1], w[..., 2]
     if not (np.abs(e0) > 0).all():
         raise ValueError("e has e0 = 0 (upside down), where the yaw-free kinematics are singular")
-    d0 = -0.5 * (e1 * p + e2 * q)
-    d1 = ((e0**2 - e2**2) * p + e1 * e2 * q + 2 * e0 * e2 * r) / (2 * e0)
-    d2 = ((e0**2 - e1**2) * q + e1 * e2 * p - 2 * e0 * e1 * r) / (2 * e0)
-    return np.stack([d0, d1, d2, np.zeros_like(d0)], axis=-1), (e0 * r + e1 * q - e2 * p) / e0
+    with np.errstate(over="ignore", invalid="ignore"):
+        d0 = -0.5 * (e1 * p + e2 * q)
+        d1 = ((e0**2 - e2**2) * p + e1 * e2 * q + 2 * e0 * e2 * r) / (2 * e0)
+        d2 = ((e0**2 - e1**2) * q + e1 * e2 * p - 2 * e0 * e1 * r) / (2 * e0)
+        e_dot = np.stack([d0, d1, d2, np.zeros_like(d0)], axis=-1)
+        heading = (e0 * r + e1 * q - e2 * p) / e0
+    bad = ~(np.isfinite(e_dot).all(axis=-1) & np.isfinite(heading))
+    if bad.any():
+        e0_bad = float(np.broadcast_to(e0, bad.shape)[bad][0])
+        raise ValueError(
+            f"e{_v.first_index(bad)} is too close to upside down (e0 = {e0_bad:.3g}) for these rates: the yaw-free "
+            "rates, which divide by e0, overflow"
+        )
+    return e_dot, heading
 
 
 @dataclass(frozen=True)
@@ -324,6 +339,17 @@ class TiltEstimator(Estimator):
     natural_frame = "ENU"
     estimates_bias = True
     reports_flags = True
+    _state_layout = (
+        ("q", (4,)),
+        ("q_gyro", (4,)),
+        ("q_correction", (4,)),
+        ("q_correction_previous", (4,)),
+        ("bias", (3,)),
+        ("acc_filter", (2, 3)),
+        ("rest_filter", (6,)),
+        ("rest_seconds", ()),
+    )
+    _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)
@@ -378,7 +404,8 @@ class TiltEstimator(Estimator):
                 if known.shape != acc_arr.shape:
                     raise ValueError(f"known_acc must have the shape of acc {acc_arr.shape}, got {known.shape}")
                 acc_arr = acc_arr - known
-        return super().update(gyr_arr, acc_arr, dt=dt, t=t)
+        est = super().update(gyr_arr, acc_arr, dt=dt, t=t)
+        return float32_if(est, gyr, pitch_roll if acc is None else acc)
 
     def _new_state(self, q, gyr, acc, mag, dts, extra_in):
         a_i = rotate(q, acc[0])

@@ -531,7 +531,9 @@ def estimate_file(
                 try:
                     e = est.update(axes.rotate(gyro), axes.rotate(acc), mag_in, **timing, **extra)
                 except ValueError as exc:  # the estimator's own words name its arrays, not the file
-                    raise ValueError(f"{path}: {estimator} failed on {_rows(imu, chunk)}: {exc}") from None
+                    k = getattr(exc, "sample", None)  # strapdown._validate.SampleError: one sample of the chunk
+                    where = _rows(imu, chunk) if k is None else imu.where(chunk.row + k)
+                    raise ValueError(f"{path}: {estimator} failed at {where}: {exc}") from None
                 lost = np.flatnonzero(~np.isfinite(e.q).all(axis=1))
                 if lost.size:
                     i = int(lost[0])

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_path
+from .._files import GuardedFile, atomic_path
 from ._arrow import from_numpy
 from ._deps import need
 from .readers import COLUMNS_VARIABLE, format_of
@@ -81,7 +81,9 @@ class TableWriter:
             self._parts = {n: [np.asarray(v)[:0]] for n, v in columns.items()}
         elif self.format == "hdf5":
             h5py = need("h5py", "writing HDF5 files")
-            self._sink = h5py.File(str(self.path), "w", track_order=True)  # columns read back in order
+            # through a guarded file object: a failed write (full disk) must not reach HDF5, which then crashed
+            self._raw = GuardedFile(self.path, "w+b")
+            self._sink = h5py.File(self._raw, "w", track_order=True)  # columns read back in order
             for key, value in self.metadata.items():
                 self._sink.attrs[key] = value
             for name, v in columns.items():
@@ -118,6 +120,7 @@ class TableWriter:
             ds = self._sink[name]
             ds.resize((self.rows + len(v),))
             ds[self.rows :] = v
+        self._raw.check()  # stop at the first failed write
 
     def _write_mat(self, columns) -> None:
         for name, v in columns.items():
@@ -153,6 +156,9 @@ class TableWriter:
                 sio.savemat(f, data, oned_as="column")
         elif self._sink is not None:
             self._sink.close()
+        if getattr(self, "_raw", None) is not None:
+            self._raw.close()
+            self._raw.check()
         self._sink = None
 
     def _stop_background(self, errors: bool = False) -> None:
@@ -295,6 +301,8 @@ def table_writer(
             writer._stop_background()  # after an error in the block: no background write may still use the file
             if writer._sink is not None:  # an error inside the block: release the file before it is deleted
                 writer._sink.close()
+            if getattr(writer, "_raw", None) is not None:
+                writer._raw.close()
 
 
 def write_table(path, columns: Mapping[str, np.ndarray], format: str | None = None, metadata=None) -> Path:

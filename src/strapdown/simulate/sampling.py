@@ -30,7 +30,11 @@ import numpy as np
 from ..frames import change_frame, frame_matrix
 from ..quaternion import conjugate, rotate
 from .imu import ImuModel, apply_clock, corrupt
-from .trajectories import Trajectory, _positive
+from .trajectories import Trajectory, _positive, _seed
+
+# The most samples one call makes: about 10 GB of readings and truth.  More is a rate or duration typed wrong
+# (1e9 Hz asked for terabytes and ended in a MemoryError).
+MAX_SAMPLES = 50_000_000
 
 __all__ = ["ImuData", "MagneticDisturbance", "MagneticField", "sample"]
 
@@ -219,11 +223,17 @@ def sample(
     array([0.     , 0.     , 9.80665])
     """
     rate_hz = _positive(rate_hz, "rate_hz")
+    seed = _seed(seed)
     if gyro not in _KIND:
         raise ValueError(f"gyro must be one of {', '.join(map(repr, _KIND))}; got {gyro!r}")
     imu = ImuModel.ideal() if imu is None else imu
     field_ned = (magnetic_field or MagneticField()).ned()
     span = trajectory.duration if duration is None else min(_positive(duration, "duration"), trajectory.duration)
+    if span * rate_hz > MAX_SAMPLES:
+        raise ValueError(
+            f"rate_hz={rate_hz:g} over {span:g} s makes {span * rate_hz:.3g} samples, more than {MAX_SAMPLES:,} "
+            "(about 10 GB); lower rate_hz or give a shorter duration"
+        )
     n = int(np.floor(span * rate_hz + 1e-9))
     if n < 1:
         raise ValueError(f"duration {span:g} s holds no sample at {rate_hz:g} Hz")

@@ -279,7 +279,7 @@ class RandomMotion(Trajectory):
         components: int = 4,
     ):
         self.duration = _positive(duration, "duration")
-        rng = np.random.default_rng(seed)
+        rng = np.random.default_rng(_seed(seed))
         self._w = 2 * np.pi * rng.uniform(0.05, bandwidth, (components, 3))
         self._phase = rng.uniform(0, 2 * np.pi, (components, 3))
         # amplitude a with a·w ~ rate_scale / sqrt(components): each component contributes comparable rate
@@ -407,10 +407,20 @@ class RockingPlatform(Trajectory):
 
 
 def _positive(x, name: str) -> float:
-    value = float(x)
+    try:
+        value = float(x)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a positive number, got {x!r}") from None
     if not (np.isfinite(value) and value > 0):
         raise ValueError(f"{name} must be a positive number, got {x!r}")
     return value
+
+
+def _seed(seed, name: str = "seed") -> int:
+    """A seed for numpy's generators: a non-negative integer (numpy's own errors do not name the argument)."""
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"{name} must be a non-negative integer, got {seed!r}")
+    return int(seed)
 
 
 def _unit(q, name: str) -> np.ndarray:

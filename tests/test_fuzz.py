@@ -24,7 +24,7 @@ from strapdown import fusion, quaternion, wahba
 from strapdown import metrics as met
 from strapdown.average import average_two, chordal_distance, geodesic_distance, mean
 from strapdown.decompose import attitude_error, shortest_arc, swing_twist
-from strapdown.interpolate import resample, slerp_series, squad_series
+from strapdown.interpolate import RotationSpline, resample, slerp_series, squad_series
 
 EXAMPLES = 40  # per entry point: about 60 entry points x 40 examples
 
@@ -36,6 +36,16 @@ N_SERIES = 12
 # name: (callable, [(argument, kind), ...], {fixed keyword arguments})
 # kinds: q (..., 4), v (..., 3), s (...), mat (..., 3, 3), obs (..., 2, 3), qs (N, 4), vs (N, 3), xs (N,),
 #        ts (N,) increasing times, pos (a positive Python float), frame (a frame name)
+
+
+def _spline(t, q):
+    """RotationSpline as one call: built on (t, q), its rates (order 1) at the knots."""
+    return RotationSpline(t, q)(t, 1)
+
+
+_spline.__name__ = "RotationSpline"  # the public name it covers
+_DAVENPORT = {"axes": [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]], "order": "intrinsic"}
+
 ENTRY_POINTS = {
     "angle_between": (quaternion.angle_between, [("p", "q"), ("q", "q")], {}),
     "canonical": (quaternion.canonical, [("q", "q")], {}),
@@ -63,6 +73,12 @@ ENTRY_POINTS = {
     "from_matrix": (sd.from_matrix, [("c", "mat")], {}),
     "from_matrix_orthonormalize": (sd.from_matrix, [("c", "mat")], {"orthonormalize": True}),
     "as_compressed": (sd.as_compressed, [("q", "q")], {}),
+    "as_mrp": (sd.as_mrp, [("q", "q")], {}),
+    "from_mrp": (sd.from_mrp, [("mrp", "v")], {}),
+    "as_davenport": (sd.as_davenport, [("q", "q")], _DAVENPORT),
+    "from_davenport": (sd.from_davenport, [("angles", "v")], _DAVENPORT),
+    "align_vectors": (wahba.align_vectors, [("a", "vs"), ("b", "vs")], {}),
+    "RotationSpline": (_spline, [("t", "ts"), ("q", "qs")], {}),
     "from_compressed": (sd.from_compressed, [("angles", "v")], {}),
     "as_cayley_klein": (sd.as_cayley_klein, [("q", "q")], {}),
     "change_frame": (
@@ -128,6 +144,7 @@ NOT_FUZZED = {
     "from_scipy": "takes scipy Rotation objects: test_interop.py",
     "to_scipy": "returns scipy Rotation objects: test_interop.py",
     "AttitudeIntegrator": "streaming: test_streaming_state_fuzz",
+    "Attitude": "a thin object over the fuzzed functions (its constructor validates q): test_attitude_object.py",
 }
 STREAMING = ["TiltEstimator", "Mahony", "Madgwick", "Complementary", "AttitudeEstimator"]
 

@@ -31,7 +31,8 @@ def from_mrp_rows(p, out):
         y = float(p[n, 1])
         z = float(p[n, 2])
         big = max(abs(x), abs(y), abs(z))
-        if bad < 0 and not big < math.inf:  # NaN fails the comparison too
+        # each component on its own: max() drops a NaN that is not first (every comparison with it is false)
+        if bad < 0 and not (abs(x) < math.inf and abs(y) < math.inf and abs(z) < math.inf):
             bad = n
         b = max(1.0, big)
         xs = x / b

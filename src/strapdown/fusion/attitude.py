@@ -110,7 +110,15 @@ import numpy as np
 
 from .. import _validate as _v
 from ..quaternion import multiply, rotate
-from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _back_to_first_sample, _first_present, params_of
+from ._base import (
+    FLAG_MAG_REJECTED,
+    Estimate,
+    Estimator,
+    _back_to_first_sample,
+    _first_present,
+    float32_if,
+    params_of,
+)
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude", "attitude_offline"]
 
@@ -356,7 +364,7 @@ class AttitudeEstimator(Estimator):
     reports_flags = True
     missing_samples = True
     # state layout, checked when a state is restored (fusion/_base.py): the kernel indexes it without bounds checks
-    _state_layout = (("q", (4,)), ("covariance", (6, 6)), *((name, (size,)) for name, _, size in _LAYOUT))
+    _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
     _unit_keys = ("q", "q_gyro", "q_correction")
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
@@ -660,4 +668,5 @@ def attitude_offline(
         )
     if frame != "ENU":
         q = multiply(frame_quaternion("ENU", frame), q, check=False)
-    return Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})
+    est = Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})
+    return float32_if(est, gyr, acc, mag)  # float32 in, float32 out (computed in float64)

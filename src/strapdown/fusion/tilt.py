@@ -348,6 +348,8 @@ class TiltEstimator(Estimator):
         ("acc_filter", (2, 3)),
         ("rest_filter", (6,)),
         ("rest_seconds", ()),
+        ("gyro_previous", (3,)),
+        ("nominal_interval", ()),
     )
     _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
 
@@ -446,8 +448,8 @@ class TiltEstimator(Estimator):
                 st["acc_filter"].ravel(),
                 st["rest_filter"],
                 [st["rest_seconds"]],
-                st.get("gyro_previous", np.zeros(3)),  # states saved before these existed restore too
-                [st.get("nominal_interval", 0.0)],
+                st["gyro_previous"],
+                [st["nominal_interval"]],
             ]
         )
         k.run(

@@ -54,7 +54,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..quaternion import multiply, rotate
-from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _back_to_first_sample, _first_present, float32_if, params_of
+from ._base import FLAG_MAG_REJECTED, Estimate, Estimator, _back_to_first_sample, _first_present, params_of
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude", "attitude_offline"]
 
@@ -503,7 +503,7 @@ def attitude_offline(
     if g.shape[0] == 0:  # nothing to smooth
         empty = AttitudeEstimator(po, frame=frame).update(g, a, m, dt=dt, t=t)
         empty.extra = {"bias_sigma": np.zeros((0, 3))}
-        return float32_if(empty, gyr, acc, mag)
+        return empty
     gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
     intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
     n = g.shape[0]
@@ -544,4 +544,4 @@ def attitude_offline(
     info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
     bias = (info_f * bias_f + info_b * bias_b) / (info_f + info_b)
     sigma = 1.0 / np.sqrt(info_f + info_b)
-    return float32_if(Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma}), gyr, acc, mag)
+    return Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})

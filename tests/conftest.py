@@ -28,6 +28,20 @@ def random_quaternions(n, rng):
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
+def random_walk_quaternions(n, step, rng):
+    """n attitudes (scalar first), each turned from the previous one by a Gaussian rotation vector of σ = step rad.
+
+    Built with scipy, independently of strapdown's algebra.
+    """
+    from scipy.spatial.transform import Rotation
+
+    steps = Rotation.from_rotvec(step * rng.standard_normal((n, 3)))
+    out = [steps[0]]
+    for s in steps[1:]:
+        out.append(out[-1] * s)
+    return Rotation.concatenate(out).as_quat(scalar_first=True)
+
+
 def rotation_angle(p, q, normalize=True):
     """Angle of the rotation between attitudes p and q, sign-invariant: 4 asin(min(|p - q|, |p + q|) / 2).
 

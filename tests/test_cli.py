@@ -47,9 +47,13 @@ def test_demo_compares_every_method_and_writes_its_files(demo):
         "aerobatic_show.csv",
         "aerobatic_show_angles.png",
         "aerobatic_show_errors.png",
+        "aerobatic_show_fusion.png",
         "hammerhead_loop_angles.png",
         "hammerhead_loop_errors.png",
+        "turns_and_rests_fusion.png",
     ]
+    for name in names[1:]:
+        assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     table = np.loadtxt(out / "aerobatic_show.csv", delimiter=",", skiprows=1)
     assert table.shape == (15201, 21)
     # the CSV's error columns are the angles between its true and integrated (fused) quaternions
@@ -73,6 +77,21 @@ def test_demo_fuses_the_flight(demo):
     assert rows["TiltEstimator, known acc."][0] < 0.5 * rows["gyro only (exact)"][0]
     assert rows["Attitude 9D, known acc."][0] < 0.5 * rows["gyro only (exact)"][0]
     assert rows["TiltEstimator 6D"][0] > rows["TiltEstimator, known acc."][0]
+    # the failure without the known acceleration is shown as a lesson, labelled as one
+    lesson = stdout.index("LESSON")
+    assert stdout.index("\nTiltEstimator 6D") > lesson > stdout.index("\nTiltEstimator, known acc.")
+
+
+def test_demo_shows_the_9d_estimator_where_it_is_meant_to_work(demo):
+    stdout, _ = demo
+    part = stdout[stdout.index("where it is meant to work (1)") : stdout.index("where it is meant to work (2)")]
+    rows = {line[:22].strip(): line[22:].split() for line in part.splitlines() if line[:1].isalpha() or line[:1] == "("}
+    total = {label: float(rows[label][0]) for label in ("AttitudeEstimator 9D", "Madgwick 9D", "Mahony 9D")}
+    # turns and rests with a calibrated magnetometer and a passing magnet: the flagship is best, by a margin
+    assert total["AttitudeEstimator 9D"] < 0.5 * min(total["Madgwick 9D"], total["Mahony 9D"])
+    bias, true = np.array(rows["AttitudeEstimator 9D"][3:6], float), np.array(rows["(true gyro bias)"], float)
+    assert np.abs(bias - true).max() < 0.1  # °/s, learnt at the rests
+    assert float(rows["AttitudeEstimator 9D"][-1].rstrip("%")) > 90  # the magnet is flagged nearly throughout
 
 
 def _table_rows(stdout):

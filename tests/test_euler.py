@@ -117,6 +117,26 @@ def test_lock_rule_third_angle_zero(seq, rng):
     assert hits > 0  # the sweep does reach the exact lock
 
 
+def test_kernel_atan2_rounds_like_libm_at_the_lock_limits(rng):
+    """The kernel's vectorised atan2 gives libm's double wherever the result is within 1e-9 of a multiple of
+    π/2 (the middle angle is compared with its limit exactly), and at the signed zeros (IEEE 754)."""
+    import math
+
+    from strapdown._euler_numba import atan2_vec
+
+    tiny = 10.0 ** rng.uniform(-20, -9, 2000)
+    one = 1.0 + rng.uniform(-1e-3, 1e-3, tiny.size)
+    pairs = [(s * b, t * a) for a, b in zip(tiny, one, strict=True) for s in (1.0, -1.0) for t in (1.0, -1.0)]
+    pairs += [
+        (s * a, t * b) for a, b in zip(tiny[:500], one[:500], strict=True) for s in (1.0, -1.0) for t in (1.0, -1.0)
+    ]
+    pairs += [(y, x) for y in (0.0, -0.0, 1.0, -1.0) for x in (0.0, -0.0, 1.0, -1.0)]
+    mismatches = [(y, x) for y, x in pairs if atan2_vec(y, x) != math.atan2(y, x)]
+    assert not mismatches, f"{len(mismatches)} of {len(pairs)} differ from libm, e.g. {mismatches[:3]}"
+    for y, x in pairs[-16:]:  # the sign of a zero result too
+        assert math.copysign(1.0, atan2_vec(y, x)) == math.copysign(1.0, math.atan2(y, x))
+
+
 @pytest.mark.parametrize(
     ("pitch", "combo"),
     [(90.0, lambda yaw, roll: yaw - roll), (-90.0, lambda yaw, roll: yaw + roll)],

@@ -79,6 +79,7 @@ def test_px4_vehicle_at_rest_shows_the_tilt_its_own_estimator_logged(log):
     data = read_imu(log, options(log), optional=("acc",))
     ref = read_reference(log)
     assert (ref.frame, ref.body) == ("NED", "FRD")
+    assert ref.time_origin == ImuFile(log, options(log)).time_origin  # one time line for IMU and reference
     est = AttitudeEstimator(frame="NED").update(data.gyro, data.acc, t=data.t)
     keep = (ref.t > 2.0) & (ref.t <= data.t[-1])  # after the estimators' start-up
     rows = np.searchsorted(data.t, ref.t[keep])
@@ -165,6 +166,15 @@ def test_sensor_logger_export_folder_or_zip_lying_flat(tmp_path, as_zip):
     assert np.isnan(got.mag[1::2]).all() and not np.isnan(got.mag[::2]).any()
     pitch, roll = level_angles(got, imu.frame)
     assert pitch < 2.0 and roll < 2.0
+
+
+def test_one_sensor_logger_file_alone_is_read_as_its_sensor(tmp_path):
+    data = sim.phone_at_rest(duration=3.0)
+    gyro = sim.sensor_logger(tmp_path / "e", data) / "Gyroscope.csv"
+    imu = ImuFile(gyro)
+    assert imu.picks["gyro"].fields == ("x", "y", "z") and imu.units["time"] == "ns"
+    assert (imu.frame, imu.body) == ("ENU", "RFU")
+    np.testing.assert_allclose(read_imu(gyro).gyro, data.gyro, rtol=1e-15)
 
 
 def test_sensor_logger_without_gravity_is_refused_as_linear_acceleration(tmp_path):
@@ -281,3 +291,28 @@ def test_one_sensor_per_file_with_bare_xyz_columns(tmp_path):
     a.write_text("t,x,y,z\n" + "".join(f"{0.02 * k + 0.001:.3f},0,0,9.8\n" for k in range(5)))
     got = read_imu([g, a], optional=("acc",))
     assert np.isnan(got.acc[1::2]).all() and (got.acc[::2, 2] == 9.8).all()
+
+
+@pytest.mark.parametrize("integer", [True, False])
+def test_files_whose_time_columns_name_different_units_share_one_clock(tmp_path, integer):
+    """A gyro file in ns (s) and an accelerometer file in us (ms): each sample lands on its own gyro row."""
+    n = 50
+    k = np.arange(n)
+    if integer:
+        t_gyro, t_acc, names = 1718030736000000000 + k * 10_000_000, 1718030736000000 + k * 10_000, ("ns", "us")
+    else:
+        t_gyro, t_acc, names = 12.5 + k * 0.01, 12500.0 + k * 10.0, ("s", "ms")
+    gyro, acc = tmp_path / "Gyroscope.csv", tmp_path / "Accelerometer.csv"
+    gyro.write_text(f"time_{names[0]},x,y,z\n" + "".join(f"{t},0,0,0.1\n" for t in t_gyro))
+    acc.write_text(f"time_{names[1]},x,y,z\n" + "".join(f"{t},{i},0,9.81\n" for i, t in enumerate(t_acc)))
+    got = read_imu([gyro, acc], optional=("acc",))
+    np.testing.assert_allclose(got.t, k * 0.01, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(got.acc[:, 0], k)  # every row its own sample, none dropped
+
+
+def test_a_sensor_file_on_another_clock_is_refused_not_dropped(tmp_path):
+    gyro, mag = tmp_path / "Gyroscope.csv", tmp_path / "Magnetometer.csv"
+    gyro.write_text("time,x,y,z\n" + "".join(f"{1718030736000000000 + k * 10_000_000},0,0,0\n" for k in range(50)))
+    mag.write_text("time,x,y,z\n" + "".join(f"{k * 100_000_000},20,0,-40\n" for k in range(5)))  # since boot
+    with pytest.raises(ValueError, match=r"Magnetometer.csv: none of its 5 samples .* do not share a clock"):
+        read_imu([gyro, mag], optional=("mag",))

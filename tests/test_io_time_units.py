@@ -6,7 +6,16 @@ Every file here is written by the test itself (simulated or synthetic values).
 import numpy as np
 import pytest
 
-from strapdown.io import ImuColumns, ImuFile, open_source, read_imu, read_metadata, read_reference, read_table
+from strapdown.io import (
+    ImuColumns,
+    ImuFile,
+    open_source,
+    read_imu,
+    read_metadata,
+    read_reference,
+    read_table,
+    write_table,
+)
 from strapdown.io.timebase import infer_time_unit
 
 PER_S = {"ns": 1e9, "us": 1e6, "ms": 1e3}
@@ -224,3 +233,57 @@ def test_a_gyro_in_deg_s_read_as_rad_s_at_rest_is_refused(tmp_path):
     # a turntable: 1 rad/s about the vertical with gravity steady in the body is no contradiction
     cols["gx"], cols["gy"], cols["gz"] = np.zeros(len(deg)), np.zeros(len(deg)), np.ones(len(deg))
     assert ImuFile(write_table(tmp_path / "turn.csv", cols), optional=("acc",)).units["gyro"] == "rad/s"
+
+
+def test_a_reference_table_gets_its_time_unit_as_the_imu_does(tmp_path):
+    """Epoch nanoseconds (integers) and a ``timestamp_ms`` column are turned into seconds; no time is an error."""
+    ns = tmp_path / "ref_ns.csv"
+    stamps = 1718030736872695300 + np.arange(5) * 10_000_000  # 100 Hz, past float64's 2**53
+    ns.write_text("time,qw,qx,qy,qz\n" + "".join(f"{x},1,0,0,0\n" for x in stamps))
+    ref = read_reference(ns)
+    np.testing.assert_allclose(ref.t, np.arange(5) * 0.01, rtol=0, atol=1e-12)
+    assert ref.time_origin.kind == "epoch" and ref.time_origin.value == int(stamps[0])
+    ms = tmp_path / "ref_ms.csv"
+    ms.write_text("timestamp_ms,qw,qx,qy,qz\n0,1,0,0,0\n10,1,0,0,0\n20,1,0,0,0\n")
+    np.testing.assert_allclose(read_reference(ms).t, [0.0, 0.01, 0.02], rtol=0, atol=1e-15)
+    slow = tmp_path / "ref_slow.csv"
+    slow.write_text("t,qw,qx,qy,qz\n0.0,1,0,0,0\n4000.0,1,0,0,0\n8000.0,1,0,0,0\n")  # seconds: 4000 s steps
+    with pytest.raises(ValueError, match=r"ref_slow.csv.*'t'"):
+        read_reference(slow)
+    none = tmp_path / "ref_none.csv"
+    none.write_text("qw,qx,qy,qz\n1,0,0,0\n1,0,0,0\n")
+    with pytest.raises(ValueError, match=r"ref_none.csv has attitudes .* but no time column"):
+        read_reference(none)
+
+
+def test_a_reference_with_date_times_keeps_their_epoch_origin(tmp_path):
+    pa, pq = pytest.importorskip("pyarrow"), pytest.importorskip("pyarrow.parquet")
+    stamps = np.datetime64("2024-06-10T14:45:36", "ns") + np.arange(5) * np.timedelta64(10, "ms")
+    one, zero = np.ones(5), np.zeros(5)
+    pq.write_table(
+        pa.table({"time": pa.array(stamps), "qw": one, "qx": zero, "qy": zero, "qz": zero}), tmp_path / "r.pq"
+    )
+    ref = read_reference(tmp_path / "r.pq", format="parquet")
+    np.testing.assert_allclose(ref.t, np.arange(5) * 0.01, rtol=0, atol=1e-12)
+    assert ref.time_origin.kind == "epoch" and ref.time_origin.value == int(stamps[0].astype(np.int64))
+
+
+def test_a_truth_table_in_epoch_ns_is_put_on_the_estimates_instants(tmp_path):
+    """A motion-capture table stamped in epoch ns, starting 1 s before the estimate: the shift comes from the stamps."""
+    from strapdown.io.truth import align_truth
+
+    rate, e0 = 0.5, 1718030736000000000  # rad/s about z; the truth's first stamp
+    t_est = np.arange(300) * 0.01
+    angle = rate * (t_est + 1.0)
+    zero = np.zeros_like(angle)
+    est = {"t": t_est, "qw": np.cos(angle / 2), "qx": zero, "qy": zero, "qz": np.sin(angle / 2)}
+    origin = {"time_origin": str(e0 + 10**9), "time_origin_unit": "ns", "time_origin_kind": "epoch"}
+    write_table(tmp_path / "est.csv", est, metadata={"frame": "NED", "body": "FRD", **origin})
+    stamps = e0 + np.arange(500) * 10_000_000
+    a = rate * (stamps - e0) * 1e-9
+    cells = zip(stamps, np.cos(a / 2), np.sin(a / 2), strict=True)
+    rows = "".join(f"{s},{float(w)!r},0,0,{float(z)!r}\n" for s, w, z in cells)
+    (tmp_path / "truth.csv").write_text("# frame: NED\n# body: FRD\ntime,qw,qx,qy,qz\n" + rows)
+    aligned = align_truth(tmp_path / "est.csv", tmp_path / "truth.csv")
+    assert aligned.rows.all()
+    np.testing.assert_allclose(aligned.q[:, [0, 3]], np.stack([est["qw"], est["qz"]], -1), rtol=0, atol=1e-12)

@@ -20,13 +20,16 @@ function needs them.
 """
 
 from . import average, decompose, interpolate, quaternion, wahba
+from .attitude import Attitude
 from .cayley_klein import as_cayley_klein, from_cayley_klein
 from .compressed import as_compressed, from_compressed
+from .davenport import as_davenport, from_davenport
 from .euler import as_euler, from_euler
 from .frames import change_frame, frame_matrix, frame_quaternion
 from .integrate import METHODS, AttitudeIntegrator, SingularityError, integrate
 from .interop import from_scipy, to_scipy
 from .matrix import as_matrix, from_matrix
+from .mrp import as_mrp, from_mrp
 from .quaternion import angle_between, canonical, multiply
 from .rotvec import as_axis_angle, as_gibbs, as_rotvec, from_axis_angle, from_gibbs, from_rotvec
 
@@ -34,6 +37,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "METHODS",
+    "Attitude",
     "AttitudeIntegrator",
     "SingularityError",
     "__version__",
@@ -41,9 +45,11 @@ __all__ = [
     "as_axis_angle",
     "as_cayley_klein",
     "as_compressed",
+    "as_davenport",
     "as_euler",
     "as_gibbs",
     "as_matrix",
+    "as_mrp",
     "as_rotvec",
     "average",
     "canonical",
@@ -54,9 +60,11 @@ __all__ = [
     "from_axis_angle",
     "from_cayley_klein",
     "from_compressed",
+    "from_davenport",
     "from_euler",
     "from_gibbs",
     "from_matrix",
+    "from_mrp",
     "from_rotvec",
     "from_scipy",
     "integrate",

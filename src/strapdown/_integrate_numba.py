@@ -3,7 +3,9 @@
 exact, first-order, second-order and cayley all update ``q_{k+1} = q_k ⊗ m(φ_k)`` with a step quaternion that
 depends on the step's rotation vector φ_k alone, so the attitudes are prefix products of independent factors.
 Two kernels compute them: a sequential loop (the reference, and the streaming path, bit-identical under any
-chunking) and a parallel scan over both cores (within rounding of the sequential one).
+chunking) and a blocked prefix scan (within rounding of the sequential one), built twice: in parallel and on
+one thread, with the same result (:mod:`strapdown._threads` chooses).  The entry kernels release the GIL
+(``nogil``), so that other Python threads (the background Parquet writer, a threaded Dask worker) run meanwhile.
 
 Every kernel computes in float64 whatever the storage type, and reads φ_k = g[k] · h[k·hstep] · scale, so the same
 code serves rates with a scalar or per-step dt, interval averages and increments (h = 1), in rad or deg.
@@ -244,7 +246,7 @@ def _chain(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, norm_mode, norm_ev
     return w, x, y, z, c
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out):
     """q[b] ← q[b] ⊗ m(φ_k) for k in the chunk, writing each new attitude to out[b, k].
 
@@ -277,111 +279,136 @@ def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out)
     return c_end
 
 
-@nb.njit(cache=True, parallel=True, error_model="numpy")
-def scan(g, h, hstep, scale, kind, unit, q, out, tile, n_threads):
-    """Parallel prefix product of the step quaternions of one body: out[k] = q ⊗ m(φ_0) ⊗ ... ⊗ m(φ_k).
+SCAN_TILE = 1 << 16  # samples per tile: its output (2 MiB) is still in the caches when phase 3 revisits it
+SCAN_BLOCKS = 8  # blocks per tile whatever the thread count, so that the arithmetic (the result) is fixed
 
-    The samples are processed tile by tile, so that a tile's output is still in the cores' caches when it is
-    visited the second time.  In each tile the threads take contiguous blocks: block 0 continues from the
-    incoming attitude, every other block starts from the identity.  Then each later block is rotated by the
-    attitude at its start (quaternion products are associative), with that work shared by all threads.  With
-    `unit` the outputs are normalised: the direction is the sequential loop's, only rounding differs.  Otherwise
-    they are the raw products.  q is the incoming attitude and is updated to the last one.
 
-    Norm-preserving steps (exact, cayley) keep the products within rounding of unit norm over a block, and the
-    division-free series finishes the outputs; first- and second-order steps grow the norm by |φ|²/8 a step,
-    so their products are rescaled every 16 steps and the outputs divided by their norm.
+@nb.njit(cache=True, error_model="numpy")
+def _scan_bounds(start, stop, bounds):
+    """Block edges of the tile [start, stop) into bounds; returns the number of blocks (at least 256 samples each)."""
+    size = stop - start
+    n_blocks = min(SCAN_BLOCKS, max(1, size // 256))
+    for blk in range(n_blocks + 1):
+        bounds[blk] = start + blk * size // n_blocks
+    return n_blocks
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start_att):
+    """Phase 1, one block: its prefix products, block 0 from the incoming attitude q, the others from identity."""
+    if blk == 0:
+        w, x, y, z = q[0], q[1], q[2], q[3]
+    else:
+        w, x, y, z = 1.0, 0.0, 0.0, 0.0
+    tw, tx, ty, tz, _ = _chain(
+        g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], w, x, y, z, out, chain_norm, 16, 0
+    )
+    start_att[blk + 1, 0] = tw
+    start_att[blk + 1, 1] = tx
+    start_att[blk + 1, 2] = ty
+    start_att[blk + 1, 3] = tz
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _rotate_row(sw, sx, sy, sz, rows, k, unit, fix_mode):
+    """rows[k] ← s ⊗ rows[k], normalised with `unit`."""
+    rw, rx, ry, rz = qmul(sw, sx, sy, sz, rows[k, 0], rows[k, 1], rows[k, 2], rows[k, 3])
+    if unit:
+        rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
+    rows[k, 0] = rw
+    rows[k, 1] = rx
+    rows[k, 2] = ry
+    rows[k, 3] = rz
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _scan_offsets(start_att, n_blocks, unit, fix_mode):
+    """Phase 2: start_att[b] ← the attitude at the end of block b-1 (block 0's end is already absolute)."""
+    for blk in range(2, n_blocks):
+        p = start_att[blk - 1]
+        _rotate_row(p[0], p[1], p[2], p[3], start_att, blk, unit, fix_mode)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _scan_rotate(bounds, blk, unit, fix_mode, start_att, out):
+    """Phase 3, one block: rotate it by its start attitude (block 0 by the identity), normalising with `unit`.
+
+    Block 0 is already absolute: without `unit` there is nothing to do; with it, the product by the identity
+    changes no value (finite inputs) and the outputs are only normalised.
     """
-    n = g.shape[0]
-    # Norm-preserving steps keep a block's products within rounding of unit norm (no rescaling needed inside
-    # it, and the series finishes the outputs); first/second-order ones grow the norm by |φ|²/8 a step: rescale
-    # the running product every 16 steps so long blocks cannot overflow (scaling never changes the direction).
+    if blk == 0 and not unit:
+        return
+    if blk == 0:
+        sw, sx, sy, sz = 1.0, 0.0, 0.0, 0.0
+    else:
+        sw, sx, sy, sz = start_att[blk, 0], start_att[blk, 1], start_att[blk, 2], start_att[blk, 3]
+    for k in range(bounds[blk], bounds[blk + 1]):
+        _rotate_row(sw, sx, sy, sz, out, k, unit, fix_mode)
+
+
+@nb.njit(cache=True, inline="always")
+def _scan_modes(kind, unit):
+    """(normalisation of the outputs, normalisation inside a block's chain) for the scan.
+
+    Norm-preserving steps (exact, cayley) keep a block's products within rounding of unit norm (no rescaling
+    inside it, and the division-free series finishes the outputs); first/second-order ones grow the norm by
+    |φ|²/8 a step: the running product is rescaled every 16 steps so that long blocks cannot overflow (scaling
+    never changes the direction) and the outputs are divided by their norm.
+    """
     preserving = kind == KIND_EXACT or kind == KIND_CAYLEY
     fix_mode = NORM_SERIES if preserving else NORM_EXACT
     chain_norm = NORM_EXACT if unit and not preserving else NORM_NONE
-    start_att = np.empty((n_threads + 1, 4))  # attitude at the start of each block (row 0 unused)
-    bounds = np.empty(n_threads + 1, dtype=np.int64)
-    w = q[0]
-    x = q[1]
-    y = q[2]
-    z = q[3]
-    for start in range(0, n, tile):
-        stop = min(start + tile, n)
-        size = stop - start
-        n_blocks = min(n_threads, max(1, size // 256))
-        for blk in range(n_blocks + 1):
-            bounds[blk] = start + blk * size // n_blocks
-        # phase 1: local prefix products; block 0 from the incoming attitude, the others from the identity
+    return fix_mode, chain_norm
+
+
+@nb.njit(cache=True, parallel=True, nogil=True, error_model="numpy")
+def scan(g, h, hstep, scale, kind, unit, q, out):
+    """Parallel prefix product of the step quaternions of one body: out[k] = q ⊗ m(φ_0) ⊗ ... ⊗ m(φ_k).
+
+    The samples are processed tile by tile, so that a tile's output is still in the cores' caches when it is
+    visited the second time.  Each tile is cut into SCAN_BLOCKS blocks (fewer for short tiles), which the
+    threads share out: block 0 continues from the incoming attitude, every other block starts from the
+    identity (phase 1); the block end attitudes are chained (phase 2), and each later block is rotated by the
+    attitude at its start (quaternion products are associative, phase 3).  The blocks do not depend on the
+    number of threads, so neither does the result: :func:`scan_serial` is the same arithmetic on one thread.
+    With `unit` the outputs are normalised: the direction is the sequential loop's, only rounding differs.
+    Otherwise they are the raw products.  q is the incoming attitude and is updated to the last one.
+    """
+    fix_mode, chain_norm = _scan_modes(kind, unit)
+    start_att = np.empty((SCAN_BLOCKS + 1, 4))  # attitude at the start of each block (row 0 unused)
+    bounds = np.empty(SCAN_BLOCKS + 1, dtype=np.int64)
+    for start in range(0, g.shape[0], SCAN_TILE):
+        stop = min(start + SCAN_TILE, g.shape[0])
+        n_blocks = _scan_bounds(start, stop, bounds)
         for blk in nb.prange(n_blocks):
-            if blk == 0:
-                tw, tx, ty, tz, _ = _chain(
-                    g, h, hstep, scale, kind, bounds[0], bounds[1], w, x, y, z, out, chain_norm, 16, 0
-                )
-            else:
-                tw, tx, ty, tz, _ = _chain(
-                    g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, chain_norm, 16, 0
-                )
-            start_att[blk + 1, 0] = tw
-            start_att[blk + 1, 1] = tx
-            start_att[blk + 1, 2] = ty
-            start_att[blk + 1, 3] = tz
-        # phase 2: start_att[b] = attitude at the end of block b-1 (block 0's end is already absolute)
-        for blk in range(2, n_blocks):
-            tw, tx, ty, tz = qmul(
-                start_att[blk - 1, 0],
-                start_att[blk - 1, 1],
-                start_att[blk - 1, 2],
-                start_att[blk - 1, 3],
-                start_att[blk, 0],
-                start_att[blk, 1],
-                start_att[blk, 2],
-                start_att[blk, 3],
-            )
-            if unit:
-                tw, tx, ty, tz = renormalize(fix_mode, tw, tx, ty, tz)
-            start_att[blk, 0] = tw
-            start_att[blk, 1] = tx
-            start_att[blk, 2] = ty
-            start_att[blk, 3] = tz
-        # phase 3: rotate blocks 1.. by their start attitudes (and normalise block 0), in equal parts per thread
-        for part in nb.prange(n_threads):
-            a = start + part * size // n_threads
-            e = start + (part + 1) * size // n_threads
-            blk = 0
-            while bounds[blk + 1] <= a and blk < n_blocks - 1:
-                blk += 1
-            for k in range(a, e):
-                if k >= bounds[blk + 1]:
-                    blk += 1
-                if blk == 0:
-                    if not unit:
-                        continue
-                    rw, rx, ry, rz = out[k, 0], out[k, 1], out[k, 2], out[k, 3]
-                else:
-                    rw, rx, ry, rz = qmul(
-                        start_att[blk, 0],
-                        start_att[blk, 1],
-                        start_att[blk, 2],
-                        start_att[blk, 3],
-                        out[k, 0],
-                        out[k, 1],
-                        out[k, 2],
-                        out[k, 3],
-                    )
-                if unit:
-                    rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
-                out[k, 0] = rw
-                out[k, 1] = rx
-                out[k, 2] = ry
-                out[k, 3] = rz
-        w = out[stop - 1, 0]
-        x = out[stop - 1, 1]
-        y = out[stop - 1, 2]
-        z = out[stop - 1, 3]
-    q[0] = w
-    q[1] = x
-    q[2] = y
-    q[3] = z
+            _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start_att)
+        _scan_offsets(start_att, n_blocks, unit, fix_mode)
+        for blk in nb.prange(n_blocks):
+            _scan_rotate(bounds, blk, unit, fix_mode, start_att, out)
+        for i in range(4):
+            q[i] = out[stop - 1, i]
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def scan_serial(g, h, hstep, scale, kind, unit, q, out):
+    """:func:`scan` on the calling thread alone, bit for bit (the same blocks, in order; no thread pool).
+
+    The loop is repeated rather than shared because numba compiles `prange` in parallel only inside a function
+    built with ``parallel=True``, and one function cannot be cached in both builds.
+    """
+    fix_mode, chain_norm = _scan_modes(kind, unit)
+    start_att = np.empty((SCAN_BLOCKS + 1, 4))
+    bounds = np.empty(SCAN_BLOCKS + 1, dtype=np.int64)
+    for start in range(0, g.shape[0], SCAN_TILE):
+        stop = min(start + SCAN_TILE, g.shape[0])
+        n_blocks = _scan_bounds(start, stop, bounds)
+        for blk in range(n_blocks):
+            _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start_att)
+        _scan_offsets(start_att, n_blocks, unit, fix_mode)
+        for blk in range(n_blocks):
+            _scan_rotate(bounds, blk, unit, fix_mode, start_att, out)
+        for i in range(4):
+            q[i] = out[stop - 1, i]
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")

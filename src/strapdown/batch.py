@@ -18,6 +18,7 @@ hold across the cuts, and the first fault in the file is the one reported.
 
 from __future__ import annotations
 
+import functools
 import glob
 import itertools
 import os
@@ -30,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ._files import scratch_dir
-from .integrate import AttitudeIntegrator, integrate
+from .integrate import AttitudeIntegrator, SingularityError, integrate
 from .io.conventions import time_metadata
 from .io.imu import ImuColumns, ImuFile, _TimeCheck
 from .io.pipeline import (
@@ -38,6 +39,7 @@ from .io.pipeline import (
     Report,
     _metadata,
     _output_path,
+    _rows,
     convert_file,
     default_output,
     estimate_file,
@@ -189,6 +191,9 @@ class _Runner:
     def map(self, fn, items: Sequence) -> Iterator[tuple[int, object]]:
         """Yield (index, result) as results come in; a result is an exception when the call raised."""
         items = list(items)
+        workers = min(self.workers or os.cpu_count() or 1, len(items))
+        if self._client is not None or workers > 1:
+            fn = functools.partial(_one_thread, fn)  # the parallelism is across files (strapdown._threads)
         if self._client is not None:
             from distributed import as_completed
 
@@ -200,7 +205,6 @@ class _Runner:
                 except Exception as exc:  # a lost worker: the item failed, the others go on
                     yield index[fut.key], exc
             return
-        workers = min(self.workers or os.cpu_count() or 1, len(items))
         if workers <= 1:
             for i, item in enumerate(items):
                 try:
@@ -224,6 +228,14 @@ class _Runner:
                 yield futures[fut], fut.result()
             except Exception as exc:
                 yield futures[fut], exc
+
+
+def _one_thread(fn, item):
+    """fn(item) with one numba thread unless ``threads=`` or ``STRAPDOWN_THREADS`` says otherwise."""
+    from ._threads import worker_default
+
+    with worker_default(1):
+        return fn(item)
 
 
 def run_batch(
@@ -416,14 +428,19 @@ def _part_stream(part: _Part, imu: ImuFile, box: dict):
     def tapped():
         m = None if part.turn is None else np.asarray(part.turn).reshape(3, 3)
         for chunk in imu.chunks(part.chunk_rows, part.start, part.stop):
+            box["chunk"] = chunk  # as read, for messages naming the file's columns
             if m is not None:
-                chunk.gyro = chunk.gyro @ m.T
+                chunk = replace(chunk, gyro=chunk.gyro @ m.T)
             box.setdefault("first_t", float(chunk.t[0]))
             box["last_t"] = float(chunk.t[-1])
             box["last_g"] = chunk.gyro[-1].copy()
             yield chunk
 
-    return integrate_stream(tapped(), method=part.method, input=part.input, rate_frame=part.rate_frame, rate=imu.rate)
+    stream = integrate_stream(tapped(), method=part.method, input=part.input, rate_frame=part.rate_frame, rate=imu.rate)
+    try:
+        yield from stream
+    except (ValueError, SingularityError) as exc:  # the integrator's words name no file
+        raise ValueError(f"{part.path}: the integration failed on {_rows(imu, box.get('chunk'))}: {exc}") from None
 
 
 def _part_end(part: _Part) -> dict:

@@ -117,10 +117,53 @@ def load_trial(path, groups=(), description: str = "") -> Trial:
     for key, a in (("imu_gyr", gyr), ("imu_acc", acc), ("imu_mag", mag)):
         if not np.isfinite(a).all():
             raise ValueError(f"{path}: {key} holds NaN or infinite values")
-    rate = float(np.asarray(d["sampling_rate"]).reshape(-1)[0])
-    if not (np.isfinite(rate) and rate > 0):
-        raise ValueError(f"{path}: sampling_rate must be positive, got {rate!r}")
+    rate = _rate(path, d["sampling_rate"])
+    # NaN rows are occluded markers (ignored); a zero or infinite row is no attitude and would make every error NaN
+    known = ~np.isnan(quat).any(axis=1)
+    bad = np.flatnonzero(known & ~(np.isfinite(quat).all(axis=1) & (np.abs(quat) > 0).any(axis=1)))
+    if bad.size:
+        raise ValueError(
+            f"{path}: opt_quat row {bad[0] + 1} of {n} is {quat[bad[0]].tolist()} ({bad.size} such rows): a true "
+            "attitude must be a finite non-zero quaternion, or NaN where the markers were lost"
+        )
+    if not (known & movement).any():
+        raise ValueError(f"{path}: no movement sample has a true attitude (opt_quat NaN there): nothing to score")
     return Trial(path.stem, gyr, acc, mag, quat, movement, rate, tuple(groups), description, path)
+
+
+def _rate(path: Path, value) -> float:
+    """BROAD's ``sampling_rate``: one positive finite number of Hz."""
+    a = np.asarray(value)
+    if a.size != 1 or a.dtype.kind not in "iuf":
+        shown = repr(a.tolist()) if a.size < 6 else f"an array of shape {a.shape}"
+        raise ValueError(f"{path}: sampling_rate must be one number of Hz, got {shown}")
+    rate = float(a.reshape(-1)[0])
+    if not (np.isfinite(rate) and rate > 0):
+        raise ValueError(f"{path}: sampling_rate must be a positive number of Hz, got {rate!r}")
+    return rate
+
+
+def _index(folder: Path) -> dict:
+    """``trials.json``: {"trials": {name: {"groups": [...], "description": "..."}}, "groups": [{"name": ...}]}."""
+    index = folder / "trials.json"
+    if not index.exists():
+        return {}
+    try:
+        data = json.loads(index.read_text())
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{index} is not valid JSON: {exc}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{index} must hold a JSON object with 'trials' and 'groups', got a {type(data).__name__}")
+    trials, groups = data.get("trials", {}), data.get("groups", [])
+    if not isinstance(trials, dict) or not all(isinstance(v, dict) for v in trials.values()):
+        raise ValueError(f"{index}: 'trials' must map each trial name to an object with 'groups' and 'description'")
+    for name, v in trials.items():
+        g = v.get("groups", [])
+        if not isinstance(g, list) or not all(isinstance(x, str) for x in g):
+            raise ValueError(f"{index}: the groups of trial {name!r} must be a list of names, got {g!r}")
+    if not isinstance(groups, list) or not all(isinstance(g, dict) and isinstance(g.get("name"), str) for g in groups):
+        raise ValueError(f"{index}: 'groups' must be a list of objects with a 'name'")
+    return data
 
 
 def load_trials(folder, names=None) -> list[Trial]:
@@ -150,10 +193,7 @@ def load_trials(folder, names=None) -> list[Trial]:
         if unknown:
             raise ValueError(f"unknown trial(s) {', '.join(unknown)} in {folder}")
         files = [by_name[n] for n in names]
-    meta = {}
-    index = folder / "trials.json"
-    if index.exists():
-        meta = json.loads(index.read_text()).get("trials", {})
+    meta = _index(folder).get("trials", {})
     return [
         load_trial(f, meta.get(f.stem, {}).get("groups", ()), meta.get(f.stem, {}).get("description", ""))
         for f in files
@@ -162,10 +202,7 @@ def load_trials(folder, names=None) -> list[Trial]:
 
 def group_names(folder) -> list[str]:
     """The group names of ``trials.json`` in its order (empty when there is no such file)."""
-    index = Path(folder) / "trials.json"
-    if not index.exists():
-        return []
-    return [g["name"] for g in json.loads(index.read_text()).get("groups", [])]
+    return [g["name"] for g in _index(Path(folder)).get("groups", [])]
 
 
 def load_reference_results(path) -> dict:

@@ -21,7 +21,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import atomic_path
 from .euler import as_euler
 from .integrate import METHODS
 from .quaternion import angle_between, multiply
@@ -175,85 +174,13 @@ class Comparison:
         list of pathlib.Path
             The files written (each written to a temporary file first, then renamed).
         """
-        try:
-            import matplotlib
+        from .io.plots import plot_comparison  # every line its own style; both files or neither
 
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError:  # pragma: no cover - exercised only without matplotlib
-            raise ImportError("plots need matplotlib: pip install 'strapdown[plot]'") from None
-        directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        t = self.data.t
-        paths = []
-
-        fig, axes = plt.subplots(3, 1, sharex=True, figsize=(10, 7))
-        truth = _display_angles(self.data.q_true)
-        shown = [r for r in self.results if r.method in ("exact", "euler-angles")]
-        for i, name in enumerate(("yaw [deg]", "pitch [deg]", "roll [deg]")):
-            axes[i].plot(t, truth[:, i], "k", lw=2.5, label="truth")
-            for r in shown:
-                axes[i].plot(t, _display_angles(r.q, align=truth)[:, i], lw=1, label=r.method)
-                if r.first_singular_time is not None:
-                    axes[i].axvline(r.first_singular_time, color="r", ls=":", lw=1)
-            axes[i].set_ylabel(name)
-        axes[0].set_title(
-            "yaw and roll are shown where |pitch| < 80° (near the vertical only their sum or "
-            "difference is defined); red: a method stopped at its singularity",
-            fontsize=8,
-        )
-        axes[0].legend(loc="upper right", fontsize=8)
-        axes[-1].set_xlabel("time [s]")
-        fig.suptitle(self.title.strip() or "attitude")
-        paths.append(_save(fig, directory / f"{prefix}_angles.png"))
-        plt.close(fig)
-
-        fig, ax = plt.subplots(figsize=(10, 6))
-        for r in self.results:
-            err = np.degrees(np.maximum(r.error, 1e-16))
-            ax.semilogy(t, err, lw=1, label=r.method)
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel("attitude error [deg]")
-        ax.legend(fontsize=7, ncol=3)
-        ax.set_title(self.title.strip() or "attitude error")
-        paths.append(_save(fig, directory / f"{prefix}_errors.png"))
-        plt.close(fig)
-        return paths
-
-
-def _display_angles(q: np.ndarray, align: np.ndarray | None = None) -> np.ndarray:
-    """Yaw, pitch, roll in degrees for plotting.
-
-    NaN where q is; yaw and roll hidden within 10° of the vertical and unwrapped along each stretch where they
-    are shown, so that plots carry no ±180° jumps.  With `align` (another series of such angles) whole turns are
-    added to yaw and roll to bring them next to it.
-    """
-    out = np.full((q.shape[0], 3), np.nan)
-    ok = np.isfinite(q).all(axis=-1)
-    if ok.any():
-        out[ok] = as_euler(q[ok], "ZYX", degrees=True)
-    hide = ~(np.abs(out[:, 1]) < 80.0)
-    out[hide, 0] = np.nan
-    out[hide, 2] = np.nan
-    for col in (0, 2):
-        valid = np.isfinite(out[:, col])
-        edges = np.flatnonzero(np.diff(np.r_[0, valid.astype(int), 0]))
-        for a, b in zip(edges[::2], edges[1::2], strict=True):
-            out[a:b, col] = np.degrees(np.unwrap(np.radians(out[a:b, col])))
-        if align is not None:
-            out[:, col] = align[:, col] + (out[:, col] - align[:, col] + 180.0) % 360.0 - 180.0
-    return out
+        return plot_comparison(self, directory, prefix)
 
 
 def _deg(x: float) -> str:
     return "-" if not np.isfinite(x) else f"{np.degrees(x):.2e}"
-
-
-def _save(fig, path: Path) -> Path:
-    """Save atomically (no partly written PNG is ever visible)."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    return path
 
 
 def _run(data: ImuData, method: str, q0) -> tuple[np.ndarray, list]:

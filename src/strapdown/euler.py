@@ -68,9 +68,11 @@ def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool =
     ----------
     angles : array_like, shape (..., 3)
         The three angles in the order of ``seq`` (for ``"ZYX"``: yaw ψ, pitch θ, roll φ).  Any real values are
-        accepted; they need not lie in the output ranges of :func:`as_euler`.
+        accepted; they need not lie in the output ranges of :func:`as_euler`.  For a sequence of one or two
+        axes, shape (..., 1) or (..., 2), and a single number for one axis (as scipy).
     seq : str
-        Axis sequence: ``"ZYX"``, ``"ZXY"``, ``"ZXZ"``, ... (intrinsic) or ``"xyz"``, ... (extrinsic).
+        Axis sequence: ``"ZYX"``, ``"ZXY"``, ``"ZXZ"``, ... (intrinsic) or ``"xyz"``, ... (extrinsic); also
+        one or two axes (``"z"``, ``"ZY"``), see :mod:`strapdown.davenport`.
     degrees : bool
         Angles in degrees instead of radians.
     check : bool
@@ -96,6 +98,10 @@ def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool =
     array([[0.965926, 0.258819, 0.      , 0.      ],
            [0.965926, 0.      , 0.258819, 0.      ]])
     """
+    if isinstance(seq, str) and len(seq) in (1, 2):  # scipy's one- and two-axis sequences
+        from .davenport import from_short_euler
+
+        return from_short_euler(angles, seq, degrees, check)
     intrinsic, axes = _parse_seq(seq)
     angles = _v.finite(angles, "angles", check=check)
     _v.check_last_axis(angles, "angles", 3, f"one angle per axis of {seq!r}")
@@ -173,13 +179,10 @@ def as_euler(
     scale = 180.0 / np.pi if degrees else 1.0
     from ._euler_numba import as_euler_rows
 
-    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, out)
     full = out.dtype.type(360.0 if degrees else 2 * np.pi)
     half = out.dtype.type(180.0 if degrees else np.pi)
-    # The kernel wraps in radians; rounding to degrees or float32 can land exactly on -180°: fold it back.
-    for col in (0, 2):
-        angle = out[:, col]
-        angle[angle <= -half] += full
+    # the kernel also folds -180° (from the rounding to degrees or float32) to +180°, in the output's type
+    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, float(half), float(full), out)
     if yaw_range == "positive":
         angle = out[:, 0 if intrinsic else 2]
         angle[angle < 0] += full

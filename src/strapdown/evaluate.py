@@ -309,12 +309,38 @@ def evaluate(
         seconds = time.perf_counter() - t0
         if q.shape != trial.quat.shape:
             raise ValueError(f"the estimator returned shape {q.shape} on {trial.name}; expected {trial.quat.shape}")
+        _check_estimate(q, trial)
         e = rmse_errors(q, trial.quat, trial.movement, heading_offset=remove)
+        if not all(np.isfinite(v) for v in e.values()):
+            # a NaN score would rank nowhere and average everything it meets into NaN
+            raise ValueError(
+                f"{trial.name}: the errors are NaN ({', '.join(f'{k} {v:.3g}' for k, v in e.items())}): no movement "
+                "sample has both a finite estimate and a unit true attitude"
+            )
         r = TrialResult(trial.name, trial.groups, e["total"], e["heading"], e["inclination"], seconds)
         results.append(r)
         if progress is not None:
             progress(r)
     return Evaluation(label, results, order, remove)
+
+
+def _check_estimate(q: np.ndarray, trial: Trial) -> None:
+    """Refuse an estimate that lost the attitude: the errors skip NaN rows, so it would score well, not badly."""
+    nan = ~np.isfinite(q).all(axis=1)
+    counted = trial.movement & np.isfinite(trial.quat).all(axis=1)  # NaN where the truth is NaN counts nothing
+    lost = np.flatnonzero(nan & counted)
+    if not lost.size:
+        return
+    k = int(lost[0])
+    while k > 0 and nan[k - 1]:  # where the estimate was lost, before the first sample that counts
+        k -= 1
+    readings = {"imu_gyr": trial.gyr[k], "imu_acc": trial.acc[k], "imu_mag": trial.mag[k]}
+    # the reading most out of scale at that row, relative to its usual size (rad/s, m/s², µT)
+    name = max(readings, key=lambda n: np.max(np.abs(readings[n])) / {"imu_gyr": 1, "imu_acc": 9.81, "imu_mag": 50}[n])
+    raise ValueError(
+        f"{trial.path or trial.name}: the estimate is lost (NaN) from sample {k + 1} of {len(trial)} on, where "
+        f"{name} is {readings[name].tolist()}: a reading that large is not plausible"
+    )
 
 
 def grid_search(

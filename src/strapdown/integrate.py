@@ -8,39 +8,39 @@ a per-step ``dt`` array, or the N + 1 times ``t`` themselves (any spacing, stric
 
 What a sample is (``input=``) and how each method reads it:
 
-=============  ===========================================  ==========================================
-input          sample k is                                  methods that need ω(t) inside the step
-=============  ===========================================  ==========================================
-``"rate"``     the instantaneous rate at ``t[k]``, the      rk4, coning*, baselines: the cubic through
-               start of step k (rad/s)                      the four nearest samples (fourth order)
-``"average"``  the mean rate over step k (rad/s), the       constant over the step
-               usual output of a filtered MEMS gyro
-``"increment"``the angle increment ∫ω dt over step k (rad)  constant over the step (= Δθ / h)
-=============  ===========================================  ==========================================
+===============  ===========================================  ==========================================
+input            sample k is                                  methods that need ω(t) inside the step
+===============  ===========================================  ==========================================
+``"rate"``       the instantaneous rate at ``t[k]``, the      rk4, coning*, baselines: the cubic through
+                 start of step k (rad/s)                      the four nearest samples (fourth order)
+``"average"``    the mean rate over step k (rad/s), the       constant over the step
+                 usual output of a filtered MEMS gyro
+``"increment"``  the angle increment ∫ω dt over step k (rad)  constant over the step (= Δθ / h)
+===============  ===========================================  ==========================================
 
 exact, first-order, second-order and cayley hold sample k constant over step k (Gajda's assumption): that is
 exact for increments and averages and globally second order for smooth motion, but only first order when the
 samples are start-of-step instants (math.md §7).  The coning methods turn rate samples into increments by
 integrating the cubic, and are fourth order on smooth motion from rates and from increments alike.
 
-Methods
--------
-``"exact"``            Gajda stages 2-3: ``q ⊗ exp(φ/2)``, φ = ω h; a Taylor series in |φ/2|² replaces sqrt, sin
-                       and cos for |φ|/2 < 0.25 (exact to double precision), φ = 0 needs no division.
-``"first-order"``      nabbla part 9: ``q ⊗ (1 + φ/2)``; angle error (|φ|)³/12 per step after normalising.
-``"second-order"``     Taylor: ``q ⊗ ((1 - |φ|²/8) + φ/2)``; angle error (|φ|)³/24 per step.
-``"cayley"``           ``q ⊗ (1 + φ/4)(1 - φ/4)⁻¹``, unit norm by construction; error (|φ|)³/48 per step.
-``"rk4"``              classical RK4 on ``q̇ = ½ q ⊗ ω(t)``; renormalised; fourth order from rate samples.
-``"coning2"``          two-sample rotation vector ``φ = Δθ1 + Δθ2 + ⅔ Δθ1×Δθ2`` per pair of samples (default for
-                       increments: fourth order on any smooth motion, math.md §6.4).
-``"coning3"``..``6``   coning-optimised N-sample sets (math.md §6.2), best under pure coning.
-``"coning3-poly"``,    polynomial-rate sets, exact for quadratic / cubic rates (math.md §6.2).
-``"coning4-poly"``
-``"coning1-prev"``     one update per sample, ``φ_k = Δθ_k + (1/12) Δθ_{k-1}×Δθ_k``.
-``"euler-angles"``,    Gajda's classic alternatives (1.6, 1.5, 1.3, 1.4) as baselines with their own state,
-``"dcm"``,             integrated by RK4 (``scheme="euler"``: first order) over the same rate model; steps
-``"euler-parameters"``,near their singular sets are reported (``on_singular=``), never returned silently.
-``"rotation-vector"``
+The methods (``method=``)::
+
+    ``"exact"``            Gajda stages 2-3: ``q ⊗ exp(φ/2)``, φ = ω h; a Taylor series in |φ/2|² replaces sqrt, sin
+                           and cos for |φ|/2 < 0.25 (exact to double precision), φ = 0 needs no division.
+    ``"first-order"``      nabbla part 9: ``q ⊗ (1 + φ/2)``; angle error (|φ|)³/12 per step after normalising.
+    ``"second-order"``     Taylor: ``q ⊗ ((1 - |φ|²/8) + φ/2)``; angle error (|φ|)³/24 per step.
+    ``"cayley"``           ``q ⊗ (1 + φ/4)(1 - φ/4)⁻¹``, unit norm by construction; error (|φ|)³/48 per step.
+    ``"rk4"``              classical RK4 on ``q̇ = ½ q ⊗ ω(t)``; renormalised; fourth order from rate samples.
+    ``"coning2"``          two-sample rotation vector ``φ = Δθ1 + Δθ2 + ⅔ Δθ1×Δθ2`` per pair of samples (default for
+                           increments: fourth order on any smooth motion, math.md §6.4).
+    ``"coning3"``..``6``   coning-optimised N-sample sets (math.md §6.2), best under pure coning.
+    ``"coning3-poly"``,    polynomial-rate sets, exact for quadratic / cubic rates (math.md §6.2).
+    ``"coning4-poly"``
+    ``"coning1-prev"``     one update per sample, ``φ_k = Δθ_k + (1/12) Δθ_{k-1}×Δθ_k``.
+    ``"euler-angles"``,    Gajda's classic alternatives (1.6, 1.5, 1.3, 1.4) as baselines with their own state,
+    ``"dcm"``,             integrated by RK4 (``scheme="euler"``: first order) over the same rate model; steps
+    ``"euler-parameters"``,near their singular sets are reported (``on_singular=``), never returned silently.
+    ``"rotation-vector"``
 
 Reference-frame rates (``rate_frame="reference"``, the patent's eq. 29) update on the left,
 ``q_{k+1} = dq ⊗ q_k``.  They are integrated as the conjugate problem: ``q*`` obeys the body-rate equation with
@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import _threads
 from . import _validate as _v
 
 __all__ = ["METHODS", "AttitudeIntegrator", "SingularityError", "integrate"]
@@ -163,9 +164,14 @@ class AttitudeIntegrator:
     normalize_every : int
         Steps between renormalisations.
     parallel : bool, optional
-        Use the two-core prefix-product scan for exact, cayley, and first/second-order with exact
+        Use the blocked prefix-product scan for exact, cayley, and first/second-order with exact
         normalisation every step (or none).  ``None``: for single-body chunks of 32768 samples or more.  The
-        scan equals the sequential loop to rounding (1e-12 rad over 10⁷ steps), not bit for bit.
+        scan equals the sequential loop to rounding (1e-12 rad over 10⁷ steps), not bit for bit, and gives the
+        same bits on any number of threads.
+    threads : int or "auto", optional
+        Threads of the scan.  None: the ``STRAPDOWN_THREADS`` environment variable, else ``"auto"``, the cores
+        free right now (one on a busy machine, never more than the size pays for).  See
+        docs/guide/performance.md and :mod:`strapdown._threads`.
     scheme : {"rk4", "euler"}
         Integrator of the baselines' differential equations.
     orthonormalize : bool
@@ -204,6 +210,7 @@ class AttitudeIntegrator:
         normalize: str = "exact",
         normalize_every: int = 1,
         parallel: bool | None = None,
+        threads: int | str | None = None,
         scheme: str = "rk4",
         orthonormalize: bool = False,
         on_singular: str = "raise",
@@ -224,6 +231,8 @@ class AttitudeIntegrator:
             raise ValueError(f"normalize_every must be a positive integer, got {normalize_every!r}")
         self.normalize_every = int(normalize_every)
         self.parallel = parallel
+        _threads.parse(threads, "threads")  # validated now; "auto" and None are decided per call
+        self.threads = threads
         self.scheme = _v.choice(scheme, "scheme", ("rk4", "euler"))
         self.orthonormalize = bool(orthonormalize)
         self.on_singular = _v.choice(on_singular, "on_singular", ("raise", "nan", "warn"))
@@ -636,21 +645,14 @@ class AttitudeIntegrator:
                 "normalize='none'"
             )
         if use_scan:
-            import numba
-
             q = st.q[0].copy()
-            k.scan(
-                g[0],
-                h,
-                hstep,
-                self.scale,
-                kind,
-                unit and norm != k.NORM_NONE,
-                q,
-                out[0],
-                65536,
-                numba.get_num_threads(),
-            )
+
+            def part(threads, lo, hi):  # samples lo..hi, continuing from q; tile-aligned pieces: the same bits
+                kernel = k.scan if threads > 1 else k.scan_serial
+                hs = h[lo:hi] if hstep else h
+                kernel(g[0, lo:hi], hs, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0, lo:hi])
+
+            _threads.run(n, self.threads, part)
             st.q[0] = q
             st.counter = 0
         else:
@@ -891,8 +893,8 @@ def integrate(
     degrees : bool
         Samples in degrees.
     **options
-        ``normalize``, ``normalize_every``, ``parallel``, ``scheme``, ``orthonormalize``, ``on_singular``,
-        ``singular_tol``: see :class:`AttitudeIntegrator`.
+        ``normalize``, ``normalize_every``, ``parallel``, ``threads``, ``scheme``, ``orthonormalize``,
+        ``on_singular``, ``singular_tol``: see :class:`AttitudeIntegrator`.
 
     Returns
     -------

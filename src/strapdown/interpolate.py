@@ -14,9 +14,10 @@ from __future__ import annotations
 import numpy as np
 
 from . import _validate as _v
+from ._spline import RotationSpline
 from .quaternion import conjugate, exp, log, multiply, power, slerp
 
-__all__ = ["resample", "slerp_series", "squad_series"]
+__all__ = ["RotationSpline", "resample", "slerp_series", "squad_series"]
 
 METHODS = ("slerp", "squad")
 

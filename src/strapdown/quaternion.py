@@ -1,7 +1,7 @@
 """Quaternion algebra on plain numpy arrays.
 
 Conventions (the same everywhere in strapdown)
----------------------------------------------
+----------------------------------------------
 * A quaternion is a float array of shape (..., 4), **scalar first** ``[w, x, y, z]``; products are Hamilton
   products (``i j = k``), Gajda (2.14).
 * An attitude quaternion ``q`` maps body-frame vectors to the reference frame:

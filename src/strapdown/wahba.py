@@ -51,8 +51,9 @@ from __future__ import annotations
 import numpy as np
 
 from . import _validate as _v
+from ._align import align_vectors
 
-__all__ = ["davenport", "olae", "quest", "static_attitude", "triad"]
+__all__ = ["align_vectors", "davenport", "olae", "quest", "static_attitude", "triad"]
 
 _TINY = np.finfo(np.float64).tiny
 

@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 from strapdown import change_frame
 from strapdown.fusion import (
     FLAG_ACC_REJECTED,
+    FLAG_BIAS_AT_LIMIT,
     FLAG_MAG_REJECTED,
     FLAG_REST,
     AttitudeEstimator,
@@ -405,3 +406,250 @@ def test_a_start_in_motion_averages_out_the_first_accelerations():
         incl.append(deg(rmse(e["inclination"][:1000])))
         head.append(deg(rmse(e["heading"])))
     assert np.mean(incl) < 4.5 and np.mean(head) < 7.0  # measured 3.8° and 5.4° (5.0° and 10.3° from the 1st sample)
+
+
+# --- irregular sampling (issue 13) ------------------------------------------------------------------------------
+
+
+def test_the_low_pass_steps_exactly_over_any_interval():
+    # the accelerometer filter's step (lowpass2) against the closed-form step response of the second-order
+    # Butterworth with poles (-1 ± i)/tau: y(t) = 1 - exp(-t/tau) (cos(t/tau) + sin(t/tau)), for random intervals
+    from strapdown.fusion._kernels_numba import lowpass2
+
+    tau = 3.5
+    rng = np.random.default_rng(1)
+    h = rng.choice([0.001, 0.01, 0.02, 0.3, 2.0], size=400)
+    y, v = 0.0, 0.0
+    t = np.cumsum(h)
+    out = []
+    for step in h:
+        p00, p01, p10, p11 = lowpass2(step, tau)
+        d = y - 1.0
+        y, v = 1.0 + p00 * d + p01 * v, p10 * d + p11 * v
+        out.append(y)
+    closed = 1.0 - np.exp(-t / tau) * (np.cos(t / tau) + np.sin(t / tau))
+    np.testing.assert_allclose(out, closed, atol=1e-11)
+
+
+def _irregular(d, rng, drop=0.1):
+    """Rows of a regular record dropped at random (true end-of-step times kept), and NaN acc/mag rows."""
+    n = d.gyro.shape[0]
+    keep = rng.random(n) >= drop
+    keep[0] = True
+    acc, mag = d.acc.copy(), d.mag.copy()
+    for arr in (acc, mag):
+        gone = rng.random(n) < drop
+        gone[0] = False
+        arr[gone] = np.nan
+    return keep, acc, mag
+
+
+@pytest.fixture(scope="module")
+def moving_consumer():
+    """Two minutes of a body turning and accelerating every way, a consumer-grade IMU (noise, bias, scale)."""
+    imu = replace_clock(ImuModel.consumer_mems())
+    return sample(
+        RandomMotion(duration=120.0, seed=4), 100.0, imu=imu, reference="ENU", body="FLU", magnetic_field=FIELD
+    )
+
+
+def replace_clock(imu):
+    from dataclasses import replace as dc_replace
+
+    from strapdown.simulate.imu import ClockModel
+
+    return dc_replace(imu, clock=ClockModel())  # the rows are dropped here, on the regular record's own times
+
+
+def test_dropped_rows_and_missing_samples_cost_little(moving_consumer):
+    # 10 % of the rows lost (their true times given) or 10 % of the accelerometer and magnetometer rows NaN:
+    # the inputs lose a tenth of their samples, so the errors may move by a little, not by a factor (before the
+    # low-pass stepped exactly over any interval, dropping rows multiplied the errors 4-7 times on BROAD)
+    d = moving_consumer
+    t = d.t[1:]
+    truth = d.q_true[1:]
+    keep, acc, mag = _irregular(d, np.random.default_rng(7))
+    settled = t > 20.0
+    for use_mag, metric in ((False, "inclination"), (True, "total")):
+        m = d.mag if use_mag else None
+
+        def err(q, rows, metric=metric):
+            return deg(rmse(attitude_errors(q, truth[rows])[metric][settled[rows]]))
+
+        every = np.ones(len(t), bool)
+        regular = err(attitude(d.gyro, d.acc, m, t=t).q, every)
+        dropped = err(attitude(d.gyro[keep], d.acc[keep], None if m is None else m[keep], t=t[keep]).q, keep)
+        missing = err(attitude(d.gyro, acc, mag if use_mag else None, t=t).q, every)
+        assert dropped < 1.1 * regular + 0.02, (metric, regular, dropped)
+        assert missing < 1.1 * regular + 0.02, (metric, regular, missing)
+
+
+def test_the_rate_is_interpolated_across_a_gap():
+    # a body accelerating its turn steadily (rate linear in time), a fifth of the rows lost at random: the rate
+    # interpolated across each gap integrates a linear rate exactly (a regular lower rate is no gap: the nominal
+    # interval follows it)
+    alpha = np.radians(20.0)  # rad/s², about x, from rest
+    dt = 0.01
+    n = 800
+    tk = np.arange(1, n + 1) * dt
+    gyr = np.zeros((n, 3))
+    gyr[:, 0] = alpha * (tk - 0.5 * dt)  # the mean rate over each step (an integrating gyro)
+    angle = 0.5 * alpha * tk**2
+    truth = np.column_stack([np.cos(angle / 2), np.sin(angle / 2), 0 * angle, 0 * angle])
+    acc = np.column_stack([0 * angle, 9.81 * np.sin(angle), 9.81 * np.cos(angle)])  # at a fixed point: only g
+    keep = np.random.default_rng(2).random(n) >= 0.2
+    keep[0] = True
+    params = AttitudeParams(tau_acc=1000.0)  # the gyro alone: the test is of the integration
+    est = AttitudeEstimator(params, q0=truth[0]).update(gyr[keep], acc[keep], t=tk[keep])  # q0: at the 1st time
+    err = deg(attitude_errors(est.q, truth[keep])["total"])
+    # applying each row's rate over the whole gap errs by alpha dt²/2 per lost row: 0.001° each, 0.16° in all;
+    # what is left (measured 0.0009°): in runs of lost rows the nominal interval has begun to follow the longer
+    # intervals (2 % per step), as it must to take a lasting lower rate as regular
+    assert err.max() < 0.002
+
+
+@pytest.mark.skipif(not BROAD.is_dir(), reason="BROAD data not present (../shared/data/broad)")
+def test_broad_with_dropped_rows_and_missing_samples():
+    # issue 13: 10 % of the rows dropped at random (true times given), or 10 % of the accelerometer and of the
+    # magnetometer rows NaN: every mean within 10 % of the regular record's (before: 9D ×5 and ×2, 6D ×7 and ×3)
+    from strapdown.broad import load_trials
+    from strapdown.metrics import rmse_errors
+
+    sums = np.zeros((3, 3))
+    for trial in load_trials(BROAD):
+        rng = np.random.default_rng(int(trial.name[:2]))
+        n = len(trial)
+        keep = rng.random(n) >= 0.1
+        keep[0] = True
+        acc, mag = trial.acc.copy(), trial.mag.copy()
+        for arr in (acc, mag):
+            gone = rng.random(n) < 0.1
+            gone[0] = False
+            arr[gone] = np.nan
+        every = np.ones(n, bool)
+        variants = [
+            (trial.gyr, trial.acc, trial.mag, {"dt": trial.dt}, every),
+            (trial.gyr[keep], trial.acc[keep], trial.mag[keep], {"t": np.arange(n)[keep] * trial.dt}, keep),
+            (trial.gyr, acc, mag, {"dt": trial.dt}, every),
+        ]
+        for i, (g, a, m, timing, rows) in enumerate(variants):
+            truth, moving = trial.quat[rows], trial.movement[rows]
+            sums[i, 0] += rmse_errors(attitude(g, a, m, **timing).q, truth, moving)["total"]
+            sums[i, 1] += rmse_errors(attitude(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
+            sums[i, 2] += rmse_errors(attitude_offline(g, a, m, **timing).q, truth, moving)["total"]
+    assert (sums[1:] <= 1.1 * sums[0]).all(), sums / 22  # measured within -2 % .. +2 % (offline inclination +7 %)
+
+
+# --- the bias prior (issue 13) -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("axis", [0, 2])
+def test_a_large_bias_is_learnt_not_clipped_and_flagged(axis):
+    # 4.5°/s on one axis (a real EuRoC-style recording), twice the prior's spread: learnt within 5 % on a body
+    # turning every way (horizontal axes from gravity, the vertical one from the field), and flagged once the
+    # estimate passes 2°/s; the old clip held it at 2°/s, so the attitude drifted at 2.5°/s between corrections
+    bias = np.zeros(3)
+    bias[axis] = np.radians(4.5)
+    d = sim(RandomMotion(duration=120.0, seed=3, acceleration_scale=0.0), bias=bias)
+    est = attitude(d.gyro, d.acc, d.mag, dt=0.01)
+    late = slice(9000, None)  # the last 30 s
+    err = np.abs(est.bias[late, axis] - bias[axis])
+    assert err.max() < 0.05 * bias[axis]
+    flagged = (est.flags & FLAG_BIAS_AT_LIMIT) > 0
+    past = np.abs(est.bias[:, axis]) > np.radians(2.0)
+    np.testing.assert_array_equal(flagged, past)  # the flag says where the estimate is past the prior's spread ...
+    assert flagged[late].all()
+    small = attitude(d.gyro - bias + np.radians(1.0), d.acc, d.mag, dt=0.01)  # ... and stays off for 1°/s
+    assert not (small.flags & FLAG_BIAS_AT_LIMIT).any()
+
+
+def test_a_large_bias_at_rest_is_learnt():
+    # at rest the mean rate is a bias if the prior finds it plausible (within three spreads: 6°/s)
+    bias = np.radians([0.0, 4.5, 0.0])
+    est = attitude(np.tile(bias, (1000, 1)), np.tile([0.0, 0.0, 9.81], (1000, 1)), dt=0.01)
+    np.testing.assert_allclose(est.bias[-1], bias, atol=0.01 * bias[1])
+    assert (est.flags[-1] & FLAG_REST) and (est.flags[-1] & FLAG_BIAS_AT_LIMIT)
+
+
+def test_linear_acceleration_makes_the_motion_bias_measurement_noisier():
+    # ideal sensors (no bias to learn) on bodies accelerating at about 2 m/s²: the low-passed acceleration moves
+    # the correction as a bias error would; trusting those measurements less keeps the inclination closer
+    def incl(params):
+        out = []
+        for seed in range(4):
+            d = sample(RandomMotion(duration=30.0, seed=seed), 100.0, reference="ENU", body="FLU", magnetic_field=FIELD)
+            e = attitude_errors(attitude(d.gyro, d.acc, d.mag, dt=0.01, params=params).q, d.q_true[1:])
+            out.append(deg(rmse(e["inclination"][1000:])))
+        return np.mean(out)
+
+    aware, blind = incl(None), incl({"bias_noise_acc_factor": 0.0})
+    assert aware < 0.95 * blind  # measured 0.88
+
+
+# --- the magnetometer start and heading acquisition (issue 13) ---------------------------------------------------
+
+
+def _heading_after(seconds, disturbances=(), seeds=range(6)):
+    """The largest heading error (deg) after `seconds` of bodies moving from the first sample on (about 1 m/s²
+    of linear acceleration: more tilts the 6D frame, and a tilt error ε shows as ε tan(dip) of heading)."""
+    worst = []
+    for seed in seeds:
+        d = sample(
+            RandomMotion(duration=30.0, seed=seed, acceleration_scale=1.0),
+            100.0,
+            reference="ENU",
+            body="FLU",
+            magnetic_field=FIELD,
+            disturbances=disturbances,
+        )
+        heading = deg(np.abs(attitude_errors(attitude(d.gyro, d.acc, d.mag, dt=0.01).q, d.q_true[1:])["heading"]))
+        worst.append(heading[d.t[1:] >= seconds].max())
+    return np.array(worst)
+
+
+def test_heading_is_acquired_within_ten_seconds_of_a_start_in_motion():
+    # the heading mean restarts when the start's plain accelerometer mean hands over to the filter (its tilt,
+    # and so the field's heading in it, is poorer before); VQF measured 1.75° mean, 4.2° worst on these
+    worst = _heading_after(10.0)
+    assert worst.mean() < 2.0 and worst.max() < 3.0  # measured 1.35° mean, 2.3° worst
+
+
+def test_a_transient_first_field_is_not_taken_as_the_reference():
+    # a phone's first second of magnetometer readings 3x too strong (a 100 µT field carried along, in body axes):
+    # the first field is a candidate until it has stayed consistent for mag_start_time (2 s); the field after it
+    # replaces it and sets the heading afresh.  Trusting the first field held the heading 40-100° off for the 20 s
+    # a new environment takes to be accepted
+    magnet = MagneticDisturbance(-1.0, 1.0, (100.0, 0.0, 0.0), frame="body", ramp=0.0)
+    assert _heading_after(5.0, [magnet]).max() < 5.0
+
+
+# --- offline: a smoother of the bias (issue 13) ------------------------------------------------------------------
+
+
+def test_offline_smooths_the_bias_so_the_start_knows_it_too():
+    # 0.5°/s on every axis, a body turning every way from the first sample: the forward pass needs 10-20 s to
+    # learn the bias; the smoother gives the start the bias the rest of the record shows, and the attitude of
+    # the first seconds is taken with it
+    d = sim(RandomMotion(duration=120.0, seed=3, acceleration_scale=0.0))
+    online = attitude(d.gyro, d.acc, d.mag, dt=0.01)
+    offline = attitude_offline(d.gyro, d.acc, d.mag, dt=0.01)
+    assert np.abs(online.bias[0] - BIAS).min() > 0.9 * BIAS  # the forward pass starts from nothing ...
+    # ... the smoothed bias is as good at the start as anywhere (measured within 0.16°/s everywhere; the forward
+    # pass's is off by up to 0.23°/s even after 10 s)
+    assert np.abs(offline.bias - BIAS).max() < np.radians(0.2)
+    first = slice(0, 2000)  # 20 s
+    incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][first])) for e in (online, offline)]
+    assert incl[1] < 0.25 * incl[0]  # measured 0.14° against 1.32°
+
+
+def test_an_uncalibrated_accelerometer_bias_can_be_estimated():
+    # 20/-15/10 mg on the accelerometer, a body turning every way: modelled, it no longer passes for a gyro bias
+    acc_bias = np.array([20.0, -15.0, 10.0]) * 9.80665e-3
+    d = sim(RandomMotion(duration=120.0, seed=0), bias=0.0, imu=ImuModel(accel=TriadModel(bias=acc_bias)))
+    settled = slice(1000, None)
+    f = AttitudeEstimator({"acc_bias_sigma_init": 0.1})
+    modelled = f.update(d.gyro, d.acc, dt=0.01)
+    plain = attitude(d.gyro, d.acc, dt=0.01)
+    incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][settled])) for e in (modelled, plain)]
+    assert incl[0] < 0.85 * incl[1], incl  # measured 1.16° against 1.48°
+    assert np.linalg.norm(f.acc_bias - acc_bias) < 0.5 * np.linalg.norm(acc_bias)

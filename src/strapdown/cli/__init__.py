@@ -19,6 +19,7 @@ import sys
 #: Command name -> (module that defines ``command``, one-line help shown by ``strapdown --help``).
 COMMANDS: dict[str, tuple[str, str]] = {
     "batch": ("strapdown.cli.batch", "Run integrate, estimate or convert on many files at once."),
+    "calibrate": ("strapdown.cli.calibrate", "Fit sensor calibrations (mag, acc, gyro) and read the Allan curve."),
     "compare": ("strapdown.cli.compare", "Run every propagation method on a simulated scenario."),
     "convert": ("strapdown.cli.convert", "Convert attitudes between representations: numbers or files."),
     "demo": ("strapdown.cli.demo", "Print the worked examples and write plots and a CSV to OUT."),

@@ -132,7 +132,9 @@ def flight_options(gyro_option: str, gyro_default: str):
             show_default=True,
             help="Errors.",
         ),
-        click.option("--seed", default=0, show_default=True, help="Seed of the sensor errors."),
+        click.option(
+            "--seed", default=0, show_default=True, type=click.IntRange(min=0), help="Seed of the sensor errors."
+        ),
     ]
 
     def apply(f):
@@ -241,6 +243,8 @@ def run_file(function, path, output, kwargs: dict, quiet: bool) -> None:
     """Run one file command: progress bar, summary line, and bad input as a one-line error (exit 1)."""
     import click
 
+    if output:
+        writable_file(output, "-o/--output")  # before reading: not a hidden temp's name after the whole run
     bar = Progress(quiet)
     try:
         report = function(path, output, progress=bar, **kwargs)
@@ -287,7 +291,7 @@ def frame_options(f, *, integrate: bool = False):
         else "Reference frame of the output (default: the format's preset, e.g. NED for a PX4 log; else ENU)."
     )
     opts = [
-        click.option("--frame", type=click.Choice(FRAMES, case_sensitive=False), help=frame_help),
+        click.option("--frame", metavar="|".join(FRAMES) + "|...", callback=_frame, help=frame_help),
         click.option(
             "--body",
             metavar="AXES",
@@ -303,6 +307,24 @@ def frame_options(f, *, integrate: bool = False):
     for opt in reversed(opts):
         f = opt(f)
     return f
+
+
+def _frame(ctx, param, value):
+    """A reference frame with a vertical z axis (the estimators' need): ENU, NED, NWU, ESU..., upper case."""
+    import click
+
+    if value is None:
+        return None
+    from ..frames import frame_matrix
+
+    frame = value.upper()
+    try:
+        m = frame_matrix(frame, "NED")
+    except ValueError as exc:
+        raise click.BadParameter(str(exc).replace("src=", "")) from None
+    if abs(m[2, 2]) != 1.0:
+        raise click.BadParameter(f"{frame}: its z axis must be up (U) or down (D), as in ENU, NED, NWU")
+    return frame
 
 
 def input_formats():
@@ -381,8 +403,8 @@ def param_units(estimator: str) -> dict[str, str]:
     return units
 
 
-def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
-    """``NAME=VALUE`` options as parameters: ``bias_limit_deg_s=5`` (degrees, unit in the name), ``bias_limit=0.087``.
+def param_name(estimator: str, name: str, option: str = "--param") -> tuple[str, float | None]:
+    """(parameter, factor to the library's unit or None) of a command-line name such as ``bias_limit_deg_s``.
 
     A name ending in ``_deg``, ``_deg_s`` or ``_dps`` gives a parameter that the library takes in radians (rad,
     rad/s, rad/s·√s) in degrees instead, the unit of the outputs; ``_rad`` and ``_rad_s`` say radians.
@@ -392,27 +414,44 @@ def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
     import click
 
     units = param_units(estimator)
-    out = {}
-    for text in assignments or ():
-        name, value = assignment(text, option)
-        base, scale = name, None
-        for suffix, factor in [(s, math.pi / 180) for s in _DEG_SUFFIXES] + [(s, 1.0) for s in _RAD_SUFFIXES]:
-            if name.endswith(suffix) and name[: -len(suffix)] in units:
-                base, scale = name[: -len(suffix)], factor
-                break
-        if scale is not None:
+    for suffix, factor in [(s, math.pi / 180) for s in _DEG_SUFFIXES] + [(s, 1.0) for s in _RAD_SUFFIXES]:
+        base = name[: -len(suffix)]
+        if name.endswith(suffix) and base in units:
             if not units[base].startswith("rad"):
                 raise click.BadParameter(
                     f"{base} of {estimator} is in {units[base] or 'no angular unit'}, not an angle or a rate: "
                     f"write {base}=VALUE",
                     param_hint=option,
                 )
-            if not isinstance(value, float):
-                raise click.BadParameter(f"{name} takes a number, got {value!r}", param_hint=option)
-            value = value * scale
+            return base, factor
+    return name, None
+
+
+def scaled(name: str, value, factor: float | None, option: str = "--param"):
+    """``value`` in the library's unit (``factor`` from :func:`param_name`)."""
+    import click
+
+    if factor is None:
+        return value
+    if not isinstance(value, float):
+        raise click.BadParameter(f"{name} takes a number, got {value!r}", param_hint=option)
+    return value * factor
+
+
+def parse_params(estimator: str, assignments, option: str = "--param") -> dict:
+    """``NAME=VALUE`` options as parameters: ``bias_limit_deg_s=5`` (degrees, unit in the name), ``bias_limit=0.087``.
+
+    Units in names as for :func:`param_name`.
+    """
+    import click
+
+    out = {}
+    for text in assignments or ():
+        name, value = assignment(text, option)
+        base, factor = param_name(estimator, name, option)
         if base in out:
             raise click.BadParameter(f"{base} is given twice", param_hint=option)
-        out[base] = value
+        out[base] = scaled(name, value, factor, option)
     return out
 
 
@@ -437,8 +476,12 @@ def list_params(estimator: str) -> str:
 
 
 def writable_folder(folder, option: str) -> None:
-    """Refuse a folder that cannot be written before anything is computed (created when missing)."""
-    import os
+    """Refuse a folder that cannot be written before anything is computed (created when missing).
+
+    A file is really created and removed: ``os.access`` says yes to root everywhere, also on a read-only mount
+    or in ``/proc``, where the write after the computation would then fail.
+    """
+    import tempfile
     from pathlib import Path
 
     import click
@@ -447,8 +490,15 @@ def writable_folder(folder, option: str) -> None:
     probe = path
     while not probe.exists() and probe != probe.parent:
         probe = probe.parent
-    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
-        raise click.BadParameter(f"cannot write into {path} ({probe} is not a writable folder)", param_hint=option)
+    problem = None if probe.is_dir() else "is not a folder"
+    if problem is None:
+        try:
+            with tempfile.TemporaryFile(dir=probe, prefix=".strapdown-probe-"):
+                pass
+        except OSError as exc:
+            problem = f"is not writable: {exc.strerror or exc}"
+    if problem:
+        raise click.BadParameter(f"cannot write into {path} ({probe} {problem})", param_hint=option)
 
 
 def writable_file(file, option: str) -> None:
@@ -459,9 +509,24 @@ def writable_file(file, option: str) -> None:
     import click
 
     path = Path(file)
+    if path.is_dir():
+        raise click.BadParameter(f"cannot write {path}: it is a folder", param_hint=option)
     if path.exists() and not os.access(path, os.W_OK):
         raise click.BadParameter(f"cannot write {path}: it is read-only", param_hint=option)
     writable_folder(path.parent if str(path.parent) else ".", option)
+
+
+def check_samples(rate: float, seconds: float, option: str = "--rate") -> None:
+    """Refuse a simulation too large to hold, before anything is allocated: say how many samples it means."""
+    import click
+
+    samples = rate * seconds
+    if samples > MAX_SIMULATED_ROWS:
+        raise click.BadParameter(
+            f"{seconds:g} s at {rate:g} Hz would be {samples:.3g} samples; at most {MAX_SIMULATED_ROWS:.0e} are "
+            "simulated at once (lower --rate or the duration)",
+            param_hint=option,
+        )
 
 
 #: Rows a simulation may write at most: 10^8 rows of 17 columns are about 14 GB in memory.

@@ -108,6 +108,8 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
             check_split(split, kwargs["method"], kwargs["input"])
     except ValueError as exc:
         raise click.UsageError(str(exc)) from None
+    # absolute paths: a Dask worker runs in its own working folder, where relative ones name nothing
+    files, outputs = [f.absolute() for f in files], [o.absolute() for o in outputs]
     if split:
         failed = 0
         for f, o in zip(files, outputs, strict=True):
@@ -115,15 +117,14 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
                 report = integrate_split(f, o, parts=split, scheduler=scheduler, workers=workers, **kwargs)
             except (ValueError, OSError, ImportError, RuntimeError) as exc:
                 failed += 1
-                click.echo(f"FAILED {f}: {exc}", err=True)
+                click.echo(_failed(f, exc), err=True)
                 continue
             if not quiet:
                 click.echo(f"written: {report.output} ({report.rows} rows, {report.seconds:.2f} s, {split} parts)")
         if failed:
             raise click.ClickException(f"{failed} of {len(files)} files failed")
         return
-    # absolute paths: a Dask worker runs in its own working folder, where relative ones name nothing
-    jobs = [Job(command, str(f.absolute()), str(o.absolute()), kwargs) for f, o in zip(files, outputs, strict=True)]
+    jobs = [Job(command, str(f), str(o), kwargs) for f, o in zip(files, outputs, strict=True)]
     bar = Progress(quiet, unit="files")
     done = [0]
 
@@ -142,8 +143,14 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
         if r.ok and not quiet:
             click.echo(f"written: {r.output} ({r.rows} rows, {r.seconds:.2f} s)")
     for r in bad:
-        click.echo(f"FAILED {r.input}: {r.error}", err=True)
+        click.echo(_failed(r.input, r.error), err=True)
     if bad:
         raise click.ClickException(f"{len(bad)} of {len(results)} files failed: {', '.join(r.input for r in bad)}")
     if not quiet:
         click.echo(f"{len(results)} files written", err=True)
+
+
+def _failed(path, error) -> str:
+    """One FAILED line: the file's name once (most messages start with it already)."""
+    text = str(error)
+    return f"FAILED {text}" if text.startswith(f"{path}: ") else f"FAILED {path}: {text}"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import flight_options, writable_folder
+from ._options import check_samples, flight_options, writable_folder
 
 
 @click.command()
@@ -29,6 +29,7 @@ def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
       strapdown compare --methods exact,rk4,euler-angles
       strapdown compare --log flight.ulg                       # against the log's own vehicle_attitude
     """
+    import math
     from pathlib import Path
 
     from .. import METHODS
@@ -36,8 +37,10 @@ def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
     from ..simulate import ImuModel, sample
     from ..simulate.scenarios import scenario as make
 
-    if not rate > 0:
-        raise click.BadParameter("must be positive", param_hint="--rate")
+    if not (math.isfinite(rate) and rate > 0):
+        raise click.BadParameter(f"a positive number of Hz, got {rate}", param_hint="--rate")
+    if not log:
+        check_samples(rate, make(scenario).duration)  # before sample() allocates them
     if out:
         writable_folder(out, "--out")  # before the computation, not after it
     chosen = None
@@ -56,12 +59,19 @@ def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
         scenario = Path(log).stem
     else:
         model = {"ideal": ImuModel.ideal, "consumer": ImuModel.consumer_mems, "tactical": ImuModel.tactical}[imu]()
-        data = sample(make(scenario), rate, gyro=gyro, imu=model, seed=seed)
+        try:
+            data = sample(make(scenario), rate, gyro=gyro, imu=model, seed=seed)
+        except ValueError as exc:  # a rate too low for one sample, say
+            raise click.BadParameter(str(exc), param_hint="--rate") from None
         title = f"{scenario}, {imu} IMU, {gyro} gyro at {rate:g} Hz"
     result = run_compare(data, chosen, title=title)
     click.echo(result.table())
     if out:
-        for path in result.plot(out, prefix=scenario.replace("-", "_")):
+        try:
+            written = result.plot(out, prefix=scenario.replace("-", "_"))
+        except OSError as exc:  # a full disk: checked writable, still not written
+            raise click.ClickException(f"cannot write the figures into {out}: {exc}") from None
+        for path in written:
             click.echo(f"written: {path}")
 
 

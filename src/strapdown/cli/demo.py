@@ -23,4 +23,7 @@ def command(out):
     from ..demo import run
 
     writable_folder(out, "--out")  # before the computation, not after it
-    run(out, echo=click.echo)
+    try:
+        run(out, echo=click.echo)
+    except OSError as exc:  # a full disk: checked writable, still not written
+        raise click.ClickException(f"cannot write into {out}: {exc}") from None

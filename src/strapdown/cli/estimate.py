@@ -38,7 +38,38 @@ def kwargs(p: dict) -> dict:
         "columns": columns_spec(p, ((n, v.strip()) for n, v in extra)),
         "out": output_spec(p),
         "chunk_rows": CHUNK_ROWS if p.get("chunk_rows") is None else p["chunk_rows"],
+        **_calibration_kwargs(p),
     }
+
+
+def _calibration_kwargs(p: dict) -> dict:
+    """``calibration`` and ``declination`` (radians) from --calibration, --declination, --lat, --lon, --date."""
+    out = {}
+    if p.get("calibration"):
+        from ..calibrate import load
+
+        out["calibration"] = load(p["calibration"])
+    text = p.get("declination")
+    place = [p.get(k) for k in ("lat", "lon", "date")]
+    if text is None:
+        if any(v is not None for v in place):
+            raise click.BadParameter("--lat, --lon and --date go with --declination auto", param_hint="--declination")
+        return out
+    import math
+
+    if text.strip().lower() == "auto":
+        if any(v is None for v in place):
+            raise click.BadParameter("auto needs --lat, --lon and --date", param_hint="--declination")
+        from ..calibrate import declination
+
+        out["declination"] = float(declination(latitude=place[0], longitude=place[1], date=place[2], degrees=True))
+        out["declination"] = math.radians(out["declination"])
+    else:
+        try:
+            out["declination"] = math.radians(float(text))
+        except ValueError:
+            raise click.BadParameter(f"'auto' or degrees east, got {text!r}", param_hint="--declination") from None
+    return out
 
 
 def _list_params(ctx, param, value):
@@ -77,6 +108,11 @@ def _list_params(ctx, param, value):
     help="A further input of the estimator, e.g. known_acc=kx,ky,kz (tilt) (repeatable).",
 )
 @click.option("--q0", metavar="W,X,Y,Z|YAW,PITCH,ROLL", help="Initial attitude in --frame (default: first sample).")
+@click.option("--calibration", type=click.Path(exists=True, dir_okay=False), help="Calibration JSON to apply.")
+@click.option("--declination", metavar="auto|DEG", help="Turn the 9D heading to true north (degrees east).")
+@click.option("--lat", type=float, help="Latitude, degrees (--declination auto).")
+@click.option("--lon", type=float, help="Longitude, degrees (--declination auto).")
+@click.option("--date", help="Date, YYYY-MM-DD or decimal year (--declination auto).")
 @read_options
 @estimate_output_options
 def command(paths, **p):
@@ -99,7 +135,12 @@ def command(paths, **p):
       strapdown estimate broad/01_undisturbed_slow_rotation_A.mat -e mahony --9d
       strapdown estimate chair.csv -e tilt --extra known_acc=cx,cy,cz --acc-unit g
       strapdown estimate -e attitude --list-params
+      strapdown estimate log.csv --calibration cal.json --declination auto --lat 52.5 --lon 13.4 --date 2025-06-01
     """
     from ..io import estimate_file
 
-    run_file(estimate_file, one_or_many(paths), p.get("output"), kwargs(p), p["quiet"])
+    try:
+        options = kwargs(p)
+    except (ValueError, OSError, ImportError) as exc:  # a bad calibration file, a date out of the model's span
+        raise click.ClickException(str(exc)) from None
+    run_file(estimate_file, one_or_many(paths), p.get("output"), options, p["quiet"])

@@ -4,14 +4,21 @@ from __future__ import annotations
 
 import click
 
-from ._options import assignment, estimators, parse_params, parse_value, writable_file
+from ._options import assignment, estimators, param_name, parse_params, parse_value, scaled, writable_file
 
 
 @click.command()
 @click.argument("folder", type=click.Path(exists=True, file_okay=False))
 @click.option("-e", "--estimator", type=click.Choice(list(estimators())), default="tilt", show_default=True)
 @click.option("--9d", "nine_d", is_flag=True, help="Give the estimator the magnetometer.")
-@click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE", help="Set a parameter (repeatable).")
+@click.option(
+    "-p",
+    "--param",
+    "params",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="Set a parameter (repeatable); angles and rates also in degrees: NAME_deg=..., NAME_deg_s=....",
+)
 @click.option("-g", "--grid", multiple=True, metavar="NAME=V1,V2,...", help="Grid-search these values (repeatable).")
 @click.option(
     "--objective",
@@ -42,6 +49,7 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
       strapdown evaluate broad/data_mat -e mahony --9d -p kp=0.5 -p ki=0.001
       strapdown evaluate broad/data_mat -e madgwick --9d -p beta=0.12 -p variant=reference --start broad-example
       strapdown evaluate broad/data_mat -e tilt -g tau_acc=1,2,3 -g tau_bias=50,100
+      strapdown evaluate broad/data_mat -e attitude -g bias_limit_deg_s=1,2,4
     """
     from ..broad import load_trials
     from ..evaluate import evaluate as run_evaluate
@@ -54,6 +62,7 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
     for a in grid:
         name, value = assignment(a, "--grid", raw=True)
         values = [parse_value(v) for v in value.split(",") if v.strip()]
+        shown, (name, factor) = name, param_name(estimator, name, "--grid")  # bias_limit_deg_s=1,2: degrees
         defaults = _defaults(estimator)
         if name in defaults and not isinstance(defaults[name], str):
             words = [v for v in values if not isinstance(v, float)]
@@ -61,7 +70,7 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
                 raise click.BadParameter(
                     f"{name} takes numbers, got {', '.join(map(repr, words))}", param_hint="--grid"
                 )
-        ranges[name] = values
+        ranges[name] = [scaled(shown, v, factor, "--grid") for v in values]
     names = [t.strip() for t in trials.split(",") if t.strip()] if trials else None
     heading = False if keep_heading_offset else None
     try:
@@ -84,7 +93,10 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
         raise click.UsageError(str(exc)) from None
     click.echo(result.table())
     if csv_path:
-        result.to_csv(csv_path)
+        try:
+            result.to_csv(csv_path)
+        except OSError as exc:  # a full disk: checked writable, still not written
+            raise click.ClickException(f"cannot write {csv_path}: {exc}") from None
         click.echo(f"written: {csv_path}")
 
 

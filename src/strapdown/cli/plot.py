@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import input_argument
+from ._options import input_argument, writable_folder
 
 
 @click.command()
@@ -50,8 +50,12 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
     from ..io import Angles
     from ..io.plots import plot_file
 
-    angles = Angles(seq, not radians, yaw_range)
+    try:
+        angles = Angles(seq, not radians, yaw_range)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--euler") from None
     folder = Path(out) if out else Path(path).parent
+    writable_folder(folder, "--out")  # before the figures are drawn
     try:
         if truth is None:
             written = plot_file(path, None, folder, angles=angles, max_points=max_points)
@@ -68,6 +72,9 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
                     est, ref = write_aligned(aligned, path, truth, scratch)
                     written = plot_file(est, ref, folder, angles=angles, max_points=max_points)
     except (ValueError, OSError, ImportError) as exc:
-        raise click.ClickException(str(exc)) from None
+        # the readers suggest --in-format, which plot does not have: its attitude tables go by their suffix
+        raise click.ClickException(
+            str(exc).replace("name it with --in-format", "give it one of those suffixes")
+        ) from None
     for f in written:
         click.echo(f"written: {f}")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ._options import FORMATS, MAX_SIMULATED_ROWS, flight_options, unit_option
+from ._options import FORMATS, check_samples, flight_options, unit_option, writable_file
 
 
 @click.command()
@@ -42,12 +42,8 @@ def command(output, **p):
         raise click.BadParameter(f"a positive number of Hz, got {rate}", param_hint="--rate")
     if duration is not None and not (math.isfinite(duration) and duration > 0):
         raise click.BadParameter(f"a positive number of seconds, got {duration}", param_hint="--duration")
-    seconds = scenario(p["scenario"]).duration if duration is None else duration
-    if rate * seconds > MAX_SIMULATED_ROWS:
-        raise click.UsageError(
-            f"{seconds:g} s at {rate:g} Hz would be {rate * seconds:.3g} rows; at most {MAX_SIMULATED_ROWS:.0e} are "
-            "simulated at once: lower --rate or --duration"
-        )
+    check_samples(rate, scenario(p["scenario"]).duration if duration is None else duration)
+    writable_file(output, "OUTPUT")
     kwargs = {
         "scenario": p["scenario"],
         "rate": p["rate"],

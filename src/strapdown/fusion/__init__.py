@@ -15,7 +15,15 @@ ends at it, and outputs are in ``frame`` (ENU by default).
   reproducing published results.
 """
 
-from ._base import FLAG_ACC_REJECTED, FLAG_INVERTED, FLAG_MAG_REJECTED, FLAG_REST, Estimate, initial_attitude
+from ._base import (
+    FLAG_ACC_REJECTED,
+    FLAG_BIAS_AT_LIMIT,
+    FLAG_INVERTED,
+    FLAG_MAG_REJECTED,
+    FLAG_REST,
+    Estimate,
+    initial_attitude,
+)
 from .attitude import AttitudeEstimator, AttitudeParams, attitude, attitude_offline
 from .complementary import Complementary, ComplementaryParams, complementary
 from .madgwick import Madgwick, MadgwickParams, madgwick
@@ -32,6 +40,7 @@ from .tilt import (
 
 __all__ = [
     "FLAG_ACC_REJECTED",
+    "FLAG_BIAS_AT_LIMIT",
     "FLAG_INVERTED",
     "FLAG_MAG_REJECTED",
     "FLAG_REST",

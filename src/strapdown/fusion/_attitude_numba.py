@@ -2,6 +2,10 @@
 
 The state is one float64 vector ``s`` (offsets below, named in attitude.py) plus the 6x6 covariance ``P`` of the
 gyro bias and scale-factor errors; both are updated in place, so any chunking gives the same result.
+
+The kernels allow fused multiply-adds (``fastmath={"contract"}``) and nothing else of fastmath: each is one
+correctly rounded operation, nothing is reassociated, so any chunking still gives bit-identical results; it makes
+the per-sample recursion about a tenth faster.
 """
 
 from __future__ import annotations
@@ -11,87 +15,90 @@ import math
 import numba as nb
 import numpy as np
 
-from ._kernels_numba import right_step, rotate, tilt_to_z, unit_rotvec
+# the flag bits are defined once, in _base.py
+from ._base import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
+from ._base import FLAG_BIAS_AT_LIMIT, FLAG_REST
+from ._base import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
+from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, tilt_to_z, unit_rotvec
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
 QC = 4  # 3: correction q_c (a tilt quaternion, k part 0): I -> 6D reference frame
-AF = 7  # 6: the accelerometer filter's two states per axis (Butterworth, transposed direct form II), in I
-X = 13  # 6: gyro bias (rad/s) and scale-factor errors (dimensionless), sensor axes
-REG = 19  # 28: the regressor filter's two states for 14 channels (block rate)
-V7 = 47  # 7: the magnetometer regressors, first-order low-pass at tau_mag (block rate)
-ACC = 54  # 24: block accumulators: 14 acc regressors, 7 mag regressors, 3 field components
-TB = 78  # 1: seconds accumulated in the current block
-EXS = 79  # 3: the correction q_c at the start of the block (its change over the block is measured)
-W2 = 82  # 1: |omega|^2 dt summed over the block
-NMAG = 83  # 1: seconds of magnetometer data in the block
-RESTG = 84  # 3: gyro mean for rest detection
-RESTA = 87  # 3: accelerometer mean for rest detection
-REST = 90  # 1: seconds at rest so far
-DELTA = 91  # 1: heading offset delta (rad): output = q_z(delta) (x) q_6D
-MREF = 92  # 2: reference field norm, dip (rad)
-MCUR = 94  # 2: current field norm, dip (fast low-pass)
-MOLD = 96  # 2: the field before the last switch of reference (norm < 0: none)
-DIST = 98  # 1: seconds the field has been disturbed
-UND = 99  # 1: seconds the field has been undisturbed
-STARTED = 100  # 1: 1 once the regressor filter has started
-TACC = 101  # 1: seconds since the last accelerometer sample
-AFO = 102  # 3: the accelerometer filter's last output, in I
-AFDT = 105  # 1: the interval of the filter's last step, s (0: not stepped yet)
-RESTV = 106  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)²
-AINIT = 107  # 1: seconds of accelerometer averaged at the start (< 0: the averaging is over)
-ASUM = 108  # 3: the sum of the accelerometer samples in I during that time
-ACNT = 111  # 1: how many
-MAGN = 112  # 1: undisturbed heading updates so far
-SIZE = 113
+AF = 7  # 3: the accelerometer filter's rate state dy/dt per axis, in I (its output is AFO; lowpass2)
+X = 10  # 6: gyro bias (rad/s) and scale-factor errors (dimensionless), sensor axes
+REG = 16  # 28: the regressor filter's output and rate for 14 channels (block rate; lowpass2)
+V7 = 44  # 7: the magnetometer regressors, first-order low-pass at tau_mag (block rate)
+ACC = 51  # 24: block accumulators: 14 acc regressors, 7 mag regressors, 3 field components
+TB = 75  # 1: seconds accumulated in the current block
+EXS = 76  # 3: the correction q_c at the start of the block (its change over the block is measured)
+W2 = 79  # 1: |omega|^2 dt summed over the block
+NMAG = 80  # 1: seconds of magnetometer data in the block
+RESTG = 81  # 3: gyro mean for rest detection
+RESTA = 84  # 3: accelerometer mean for rest detection
+REST = 87  # 1: seconds at rest so far
+DELTA = 88  # 1: heading offset delta (rad): output = q_z(delta) (x) q_6D
+MREF = 89  # 2: reference field norm, dip (rad)
+MCUR = 91  # 2: current field norm, dip (fast low-pass)
+MOLD = 93  # 2: the field before the last switch of reference (norm < 0: none)
+DIST = 95  # 1: seconds the field has been disturbed
+UND = 96  # 1: seconds the field has been undisturbed
+STARTED = 97  # 1: 1 once the regressor filter has started
+TACC = 98  # 1: seconds since the last accelerometer sample
+AFO = 99  # 3: the accelerometer filter's output, in I
+RESTV = 102  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)²
+AINIT = 103  # 1: seconds of accelerometer averaged at the start (< 0: the averaging is over)
+ASUM = 104  # 3: the sum of the accelerometer samples in I during that time
+ACNT = 107  # 1: how many
+MAGN = 108  # 1: undisturbed heading updates so far
+GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
+NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
+MCONF = 120  # 1: seconds the first field has been consistent (< 0: it is the reference)
+ALIN = 113  # 1: seconds of accelerometer samples summed into ARES in the current block
+RLP = 114  # 3: the low-pass of the accelerometer's departure from the filtered vector, in I (block rate)
+RLV = 117  # 3: its rate
+XA = 121  # 3: accelerometer bias, sensor axes, m/s² (Kalman states 6-8)
+ALAST = 124  # 3: the last accelerometer sample (rest detection holds it through missing rows)
+ARES = 127  # 3: the accelerometer's departure from the filtered vector, in I, times dt, summed over the block
+SIZE = 130
 
+REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
-N_SUMS = 26  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag
-
-FLAG_REST = 1  # the package's flag bits (fusion/_base.py)
-FLAG_ACC_MISSING = 2  # FLAG_ACC_REJECTED: no accelerometer sample
-FLAG_MAG_DISTURBED = 4  # FLAG_MAG_REJECTED
-
-
-@nb.njit(cache=True, inline="always", error_model="numpy")
-def butterworth(dt, tau):
-    """Second-order Butterworth low-pass (bilinear transform, prewarped) with cutoff √2/(2π tau): b0 b1 b2 a1 a2."""
-    k = math.tan(math.sqrt(2.0) / (2.0 * tau) * dt)
-    k2 = k * k
-    nrm = 1.0 / (1.0 + math.sqrt(2.0) * k + k2)
-    b0 = k2 * nrm
-    return b0, 2.0 * b0, b0, 2.0 * (k2 - 1.0) * nrm, (1.0 - math.sqrt(2.0) * k + k2) * nrm
+NX = 9  # Kalman states: gyro bias (3), gyro scale-factor errors (3), accelerometer bias (3)
+N_SUMS = 30  # block sums: 14 acc regressors (12, 13 formed at the update), 7 mag (20 formed), field, |w|², t_mag,
+# the accelerometer's seconds and departure from the filtered vector (26-29)
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def kalman(x, P, H, z, R, nm, PHt, K, tmp):
-    """In-place Kalman update of the 6-state x, P with nm <= 3 measurements z = H x + noise of variances R.
+    """In-place Kalman update of the NX-state x, P with nm <= 3 measurements z = H x + noise of variances R.
 
     Written for speed at the block rate: P is symmetric, so only its upper triangle is formed and mirrored.
     """
     for j in range(nm):
-        h0, h1, h2, h3, h4, h5 = H[j, 0], H[j, 1], H[j, 2], H[j, 3], H[j, 4], H[j, 5]
-        for i in range(6):
-            PHt[i, j] = P[i, 0] * h0 + P[i, 1] * h1 + P[i, 2] * h2 + P[i, 3] * h3 + P[i, 4] * h4 + P[i, 5] * h5
+        for i in range(NX):
+            d = 0.0
+            for c in range(NX):
+                d += P[i, c] * H[j, c]
+            PHt[i, j] = d
     # S = H P Hᵀ + R, inverted in closed form
     s00 = R[0]
-    for c in range(6):
+    for c in range(NX):
         s00 += H[0, c] * PHt[c, 0]
     if nm == 1:
         i00 = 1.0 / s00
-        for i in range(6):
+        for i in range(NX):
             K[i, 0] = PHt[i, 0] * i00
     elif nm == 2:
         s01 = 0.0
         s11 = R[1]
-        for c in range(6):
+        for c in range(NX):
             s01 += H[0, c] * PHt[c, 1]
             s11 += H[1, c] * PHt[c, 1]
         det = s00 * s11 - s01 * s01
         i00 = s11 / det
         i01 = -s01 / det
         i11 = s00 / det
-        for i in range(6):
+        for i in range(NX):
             a0 = PHt[i, 0]
             a1 = PHt[i, 1]
             K[i, 0] = a0 * i00 + a1 * i01
@@ -100,7 +107,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
         s01 = s02 = s12 = 0.0
         s11 = R[1]
         s22 = R[2]
-        for c in range(6):
+        for c in range(NX):
             s01 += H[0, c] * PHt[c, 1]
             s02 += H[0, c] * PHt[c, 2]
             s11 += H[1, c] * PHt[c, 1]
@@ -116,7 +123,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
         i11 = (s00 * s22 - s02 * s02) * inv_det
         i12 = (s01 * s02 - s00 * s12) * inv_det
         i22 = (s00 * s11 - s01 * s01) * inv_det
-        for i in range(6):
+        for i in range(NX):
             a0 = PHt[i, 0]
             a1 = PHt[i, 1]
             a2 = PHt[i, 2]
@@ -124,17 +131,18 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
             K[i, 1] = a0 * i01 + a1 * i11 + a2 * i12
             K[i, 2] = a0 * i02 + a1 * i12 + a2 * i22
     for j in range(nm):
-        tmp[j] = z[j] - (
-            H[j, 0] * x[0] + H[j, 1] * x[1] + H[j, 2] * x[2] + H[j, 3] * x[3] + H[j, 4] * x[4] + H[j, 5] * x[5]
-        )
-    for i in range(6):
+        d = z[j]
+        for c in range(NX):
+            d -= H[j, c] * x[c]
+        tmp[j] = d
+    for i in range(NX):
         d = 0.0
         for j in range(nm):
             d += K[i, j] * tmp[j]
         x[i] += d
     # P -= K (H P) = K PHtᵀ, upper triangle then mirrored
-    for i in range(6):
-        for c in range(i, 6):
+    for i in range(NX):
+        for c in range(i, NX):
             d = 0.0
             for j in range(nm):
                 d += K[i, j] * PHt[c, j]
@@ -143,91 +151,93 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
             P[c, i] = v
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
 
     p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
     rest noise density², mag noise density², rest gyro threshold², rest acc threshold², rest time, rest filter
-    tau, bias clip, field norm threshold (relative), dip threshold (rad), reference tau, current tau, new-field
-    time, block length (s).
+    tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
+    tau, new-field time, block length (s).
 
     Speed: the per-sample recursion (gyro frame, filter, correction, rest detection) runs first over a block
     and writes the 6D attitudes to ``out``; a second, simple loop then forms the block's regressor sums from
     them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
     """
     tau_acc = p[0]
-    rest_gyr2, rest_acc2, rest_time, rest_tau, clip, t_block = p[8], p[9], p[10], p[11], p[12], p[18]
+    rest_time, rest_tau, prior, t_block = p[10], p[11], p[12], p[18]
+    at_limit = FLAG_BIAS_AT_LIMIT if max(abs(s[X]), abs(s[X + 1]), abs(s[X + 2])) > prior else 0
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
-    f1x, f1y, f1z, f2x, f2y, f2z = s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5]
-    mx, my, mz, f_dt = s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT]
+    vx, vy, vz = s[AF], s[AF + 1], s[AF + 2]
+    mx, my, mz = s[AFO], s[AFO + 1], s[AFO + 2]
     a_init, a_cnt = s[AINIT], s[ACNT]
     asx, asy, asz = s[ASUM], s[ASUM + 1], s[ASUM + 2]
-    x = s[X : X + 6].copy()
+    x = np.empty(NX)
+    x[:6] = s[X : X + 6]
+    x[6:] = s[XA : XA + 3]
+    gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
+    sums[26] = s[ALIN]
+    sums[27], sums[28], sums[29] = s[ARES], s[ARES + 1], s[ARES + 2]
     sums[25] = s[NMAG]
     tb = s[TB]
     sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
-    rgx, rgy, rgz = s[RESTG], s[RESTG + 1], s[RESTG + 2]
-    rax, ray, raz = s[RESTA], s[RESTA + 1], s[RESTA + 2]
-    rest = s[REST]
-    rv = s[RESTV]
-    H = np.zeros((3, 6))
+    # the rest detector's state: gyro mean, accelerometer mean, seconds at rest, gyro scatter, last accelerometer
+    # sample, and its last coefficient (index 11) for the interval of index 12
+    rs = np.empty(13)
+    rs[0:3] = s[RESTG : RESTG + 3]
+    rs[3:6] = s[RESTA : RESTA + 3]
+    rs[6] = s[REST]
+    rs[7] = s[RESTV]
+    rs[8:11] = s[ALAST : ALAST + 3]
+    rs[11] = 0.0
+    rs[12] = -1.0
+    rest = rs[6]
+    H = np.zeros((3, NX))
     z = np.zeros(3)
     R = np.zeros(3)
-    PHt = np.zeros((6, 3))
-    K = np.zeros((6, 3))
+    PHt = np.zeros((NX, 3))
+    K = np.zeros((NX, 3))
     tmp = np.zeros(3)
-    work = np.zeros(N_REG + 9)  # regressor outputs; cached block coefficients: T, b0, b1, b2, a1, a2, kmag, kcur, kref
+    # regressor outputs; cached block coefficients: T, 4 of lowpass2, kmag, kcur, kref; changes of the 6 row channels
+    work = np.zeros(N_REG + 9 + 6)
     work[N_REG] = -1.0
-    last_dt = -1.0
     last_t_acc = -1.0
     t_acc = s[TACC]
-    b0 = b1 = b2 = a1 = a2 = rr = 0.0
-    ax = ay = az = 0.0
+    p00 = p01 = p10 = p11 = rr = f_dt = 0.0
     sg0 = math.sqrt(P[0, 0])
     sg1 = math.sqrt(P[1, 1])
     sg2 = math.sqrt(P[2, 2])
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+    bax, bay, baz = x[6], x[7], x[8]
     start = 0  # first sample of the current block in this chunk
     n = gyr.shape[0]
     for k in range(n):
         dt = dts[k]
-        if dt != last_dt:  # coefficients change only with the interval
-            rr = 1.0 - math.exp(-dt / rest_tau)
-            last_dt = dt
         flag = 0
         wx = gyr[k, 0]
         wy = gyr[k, 1]
         wz = gyr[k, 2]
-        # 1. gyro frame with the bias and scale factor of the last block update
-        ux = wx - bx - sx * wx
-        uy = wy - by - sy * wy
-        uz = wz - bz - sz * wz
+        # 1. gyro frame with the bias and scale factor of the last block update; over an interval that holds
+        # missing samples, the rate interpolated across the gap (gap_step)
+        ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
+        ux = ox - bx - sx * ox
+        uy = oy - by - sy * oy
+        uz = oz - bz - sz * oz
         gw, gx, gy, gz = right_step(gw, gx, gy, gz, ux * dt, uy * dt, uz * dt)
         # 2. accelerometer in I, Butterworth low-pass; a missing sample (NaN row) holds the filter
         ax_ = acc[k, 0]
         t_acc += dt
         if ax_ == ax_:
             if t_acc != last_t_acc:  # the filter steps over the time since the last accelerometer sample
-                b0, b1, b2, a1, a2 = butterworth(t_acc, tau_acc)
+                p00, p01, p10, p11 = lowpass2(t_acc, tau_acc)
                 last_t_acc = t_acc
-            if f_dt <= 0.0 or not (0.5 * f_dt <= t_acc <= 2.0 * f_dt):
-                # The first step, a gap, or a new rate.  The two states of a transposed direct form II only mean
-                # something with the coefficients that made them: kept across a large change of interval they can
-                # swing the output through zero (and the estimate upside down).  Restart them in steady state at
-                # the current output instead; jitter and single dropped samples stay within the factor 2.
-                f1x, f1y, f1z = mx * (1.0 - b0), my * (1.0 - b0), mz * (1.0 - b0)
-                f2x, f2y, f2z = mx * (b2 - a2), my * (b2 - a2), mz * (b2 - a2)
             f_dt = t_acc
             t_acc = 0.0
-            ax = ax_
-            ay = acc[k, 1]
-            az = acc[k, 2]
-            ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
+            ix, iy, iz = rotate(gw, gx, gy, gz, ax_ - bax, acc[k, 1] - bay, acc[k, 2] - baz)
             if a_init >= 0.0:
                 # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
                 # in I (VQF starts its filters so).  A low-pass started at the first sample would carry that
@@ -240,18 +250,20 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 a_init += f_dt
                 if a_init >= tau_acc * (1.0 - 1e-9):  # hand over to the filter, in steady state at the mean
                     a_init = -1.0
-                    f1x, f1y, f1z = mx * (1.0 - b0), my * (1.0 - b0), mz * (1.0 - b0)
-                    f2x, f2y, f2z = mx * (b2 - a2), my * (b2 - a2), mz * (b2 - a2)
+                    vx = vy = vz = 0.0
             else:
-                mx = b0 * ix + f1x
-                f1x = b1 * ix - a1 * mx + f2x
-                f2x = b2 * ix - a2 * mx
-                my = b0 * iy + f1y
-                f1y = b1 * iy - a1 * my + f2y
-                f2y = b2 * iy - a2 * my
-                mz = b0 * iz + f1z
-                f1z = b1 * iz - a1 * mz + f2z
-                f2z = b2 * iz - a2 * mz
+                # exact step of the low-pass over the interval since the last sample (lowpass2): no restart is
+                # needed after a gap or a change of rate, and jitter changes nothing but the interval
+                mx, vx = lowpass2_step(mx, vx, ix, p00, p01, p10, p11)
+                my, vy = lowpass2_step(my, vy, iy, p00, p01, p10, p11)
+                mz, vz = lowpass2_step(mz, vz, iz, p00, p01, p10, p11)
+            # the linear acceleration the filter is averaging out (the sample's departure from the filtered
+            # vector), whose residual after the low-pass moves the correction as a bias error would
+            if a_init < 0.0:  # low-passed at the block update (its cutoff is far below the block rate)
+                sums[26] += f_dt
+                sums[27] += (ix - mx) * f_dt
+                sums[28] += (iy - my) * f_dt
+                sums[29] += (iz - mz) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -260,35 +272,13 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         out[k, 1] = cw * gx + c1 * gw + c2 * gz
         out[k, 2] = cw * gy - c1 * gz + c2 * gw
         out[k, 3] = cw * gz + c1 * gy - c2 * gx
-        # 5. rest: gyro and accelerometer close to their 0.5 s means for rest_time
-        rgx += rr * (wx - rgx)
-        rgy += rr * (wy - rgy)
-        rgz += rr * (wz - rgz)
-        rax += rr * (ax - rax)
-        ray += rr * (ay - ray)
-        raz += rr * (az - raz)
-        dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
-        da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
-        rv += rr * (dg - rv)
-        # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
-        # must also be small enough to be a bias (VQF's test against its bias clip)
-        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < clip:
-            rest += dt
-        else:
-            rest = 0.0
-        if rest >= rest_time:
-            flag |= FLAG_REST
-        bias_out[k, 0] = bx
-        bias_out[k, 1] = by
-        bias_out[k, 2] = bz
-        sigma_out[k, 0] = sg0
-        sigma_out[k, 1] = sg1
-        sigma_out[k, 2] = sg2
-        flags[k] = flag
+        flags[k] = flag | at_limit
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
             _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
+            _rest(gyr, acc, dts, start, k + 1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
+            rest, rr = rs[6], rs[11]
             start = k + 1
             # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
             ex_sum, ey_sum, _ = unit_rotvec(
@@ -298,7 +288,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             # Variance of the rest mean as a bias measurement, per axis: the gyro's own scatter through the
             # exponential mean (factor rr/(2-rr)), times the number of block updates that share one mean's
             # memory (2 rest_tau / T), which the filter would otherwise count as independent.
-            rest_var = rv / 3.0 * rr / (2.0 - rr) * max(1.0, 2.0 * rest_tau / tb)
+            rest_var = rs[7] / 3.0 * rr / (2.0 - rr) * max(1.0, 2.0 * rest_tau / tb)
+            s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz  # the filtered vector now (g for the noise of step 3)
             _block(
                 s,
                 P,
@@ -309,9 +300,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
                 ey_sum,
                 rest >= rest_time,
                 a_init >= 0.0,
-                rgx,
-                rgy,
-                rgz,
+                rs[0],
+                rs[1],
+                rs[2],
                 rest_var,
                 use_mag,
                 p,
@@ -327,32 +318,88 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             sg1 = math.sqrt(P[1, 1])
             sg2 = math.sqrt(P[2, 2])
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
+            bax, bay, baz = x[6], x[7], x[8]
+            at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
     # the unfinished block: its sums so far are kept in the state
     _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
+    _rest(gyr, acc, dts, start, n, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
-    s[AF], s[AF + 1], s[AF + 2], s[AF + 3], s[AF + 4], s[AF + 5] = f1x, f1y, f1z, f2x, f2y, f2z
-    s[AFO], s[AFO + 1], s[AFO + 2], s[AFDT] = mx, my, mz, f_dt
+    s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
+    s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz
     s[AINIT], s[ACNT] = a_init, a_cnt
     s[ASUM], s[ASUM + 1], s[ASUM + 2] = asx, asy, asz
-    s[X : X + 6] = x
+    s[X : X + 6] = x[:6]
+    s[XA : XA + 3] = x[6:]
     s[ACC : ACC + 24] = sums[:24]
     s[W2] = sums[24]
+    s[ALIN] = sums[26]
+    s[ARES], s[ARES + 1], s[ARES + 2] = sums[27], sums[28], sums[29]
     s[NMAG] = sums[25]
     s[TB] = tb
     s[EXS], s[EXS + 1], s[EXS + 2] = sw, s1, s2
-    s[RESTG], s[RESTG + 1], s[RESTG + 2] = rgx, rgy, rgz
-    s[RESTA], s[RESTA + 1], s[RESTA + 2] = rax, ray, raz
-    s[REST] = rest
-    s[RESTV] = rv
+    s[RESTG : RESTG + 3] = rs[0:3]
+    s[RESTA : RESTA + 3] = rs[3:6]
+    s[REST] = rs[6]
+    s[RESTV] = rs[7]
+    s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
+    s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
+def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2):
+    """Rest detection over samples j0..j1-1 (module notes, step 4), and their bias, sigma and rest flag.
+
+    Gyro and accelerometer close to their 0.5 s means for rest_time, the mean rate plausible as a bias.  Nothing
+    in the per-sample recursion depends on it (the bias changes at block updates only), so it runs here, a loop
+    of its own the processor can pipeline, rather than lengthening the recursion's.
+    """
+    rest_gyr2, rest_acc2, rest_time, rest_tau = p[8], p[9], p[10], p[11]
+    rest_mean_max = REST_MEAN_FACTOR * p[12]
+    rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
+    rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
+    bx, by, bz = x[0], x[1], x[2]
+    for j in range(j0, j1):
+        dt = dts[j]
+        if dt != last_dt:  # the coefficient changes only with the interval
+            rr = 1.0 - math.exp(-dt / rest_tau)
+            last_dt = dt
+        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        if acc[j, 0] == acc[j, 0]:  # a missing sample holds the last one
+            ax, ay, az = acc[j, 0], acc[j, 1], acc[j, 2]
+        rgx += rr * (wx - rgx)
+        rgy += rr * (wy - rgy)
+        rgz += rr * (wz - rgz)
+        rax += rr * (ax - rax)
+        ray += rr * (ay - ray)
+        raz += rr * (az - raz)
+        dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
+        da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
+        rv += rr * (dg - rv)
+        # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
+        # must also be plausible as a bias under the prior (VQF tests it against its bias clip)
+        if dg < rest_gyr2 and da < rest_acc2 and max(abs(rgx), abs(rgy), abs(rgz)) < rest_mean_max:
+            rest += dt
+        else:
+            rest = 0.0
+        if rest >= rest_time:
+            flags[j] |= FLAG_REST
+        bias_out[j, 0] = bx
+        bias_out[j, 1] = by
+        bias_out[j, 2] = bz
+        sigma_out[j, 0] = sg0
+        sigma_out[j, 1] = sg1
+        sigma_out[j, 2] = sg2
+    rs[0], rs[1], rs[2], rs[3], rs[4], rs[5] = rgx, rgy, rgz, rax, ray, raz
+    rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12] = rest, rv, ax, ay, az, rr, last_dt
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
     """Add samples j0..j1-1 to the block sums, time-weighted.
 
@@ -416,7 +463,7 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
     sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
     """9D: turn the 6D attitudes of samples j0..j1-1 by the heading offset, q = q_z(delta) ⊗ q_6D."""
     if not use_mag:
@@ -433,28 +480,39 @@ def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
             flags[j] |= FLAG_MAG_DISTURBED
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _block(
     s, P, x, accu, T, ex_sum, ey_sum, at_rest, starting, rgx, rgy, rgz, rest_var, use_mag, p, H, z, R, PHt, K, tmp, work
 ):
     """The block-rate part: regressor filter, Kalman updates of bias and scale, magnetometer heading."""
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
-    r_motion, kappa2, r_rest, r_mag, clip = p[4], p[5], p[6], p[7], p[12]
+    r_motion, kappa2, r_rest, r_mag, prior = p[4], p[5], p[6], p[7], p[12]
     norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
+    acc_factor, start_time, q_acc = p[19], p[20], p[21]
     w2_sum = accu[24]
     t_mag = accu[25]
     c = N_REG
     if abs(T - work[c]) > 1e-9 * T:  # blocks have the same length unless the sample intervals change
         work[c] = T
-        work[c + 1], work[c + 2], work[c + 3], work[c + 4], work[c + 5] = butterworth(T, tau_acc)
+        work[c + 1], work[c + 2], work[c + 3], work[c + 4] = lowpass2(T, tau_acc)
         work[c + 6] = 1.0 - math.exp(-T / tau_mag)
         work[c + 7] = 1.0 - math.exp(-T / cur_tau)
         work[c + 8] = 1.0 - math.exp(-T / ref_tau)
-    b0, b1, b2, a1, a2 = work[c + 1], work[c + 2], work[c + 3], work[c + 4], work[c + 5]
+    p00, p01, p10, p11 = work[c + 1], work[c + 2], work[c + 3], work[c + 4]
     kmag, kcur, kref = work[c + 6], work[c + 7], work[c + 8]
+    # The bias is a first-order Gauss-Markov process: stationary spread `prior` (the prior, instead of a clip),
+    # and a correlation time that makes it wander as fast as the forgetting rate says while far inside the prior
+    # (dP/dt = 2 prior² / t_c = q_bias).  It pulls the estimate towards zero only at the rate 1/t_c (an hour for
+    # the defaults), so a large bias the data show is learnt, not clipped; one beyond `prior` is flagged.
+    phi = math.exp(-T * q_bias / (2.0 * prior * prior))
     for i in range(3):
-        P[i, i] += q_bias * T
+        x[i] *= phi
+        for j in range(NX):
+            P[i, j] *= phi
+            P[j, i] *= phi
+        P[i, i] += prior * prior * (1.0 - phi * phi)
         P[3 + i, 3 + i] += q_scale * T
+        P[6 + i, 6 + i] += q_acc * T
     # the regressors through the same low-pass as the accelerometer (box mean of the block, then Butterworth at
     # the block rate): the correction rate responds to a bias error through that filter (math: attitude.py)
     # rows of R times the bias-and-scale correction, constant over the block: linear in the other sums
@@ -467,15 +525,38 @@ def _block(
         v = accu[i] / T
         j = REG + 2 * i
         if start:  # steady state at the first block's value
-            s[j] = v * (1.0 - b0)
-            s[j + 1] = v * (b2 - a2)
-        y = b0 * v + s[j]
-        s[j] = b1 * v - a1 * y + s[j + 1]
-        s[j + 1] = b2 * v - a2 * y
-        lp[i] = y
+            s[j] = v
+            s[j + 1] = 0.0
+        # the block mean held over the block: exact for the continuous filter (lowpass2)
+        y0 = s[j]
+        r0 = s[j + 1]
+        y, r = lowpass2_step(y0, r0, v, p00, p01, p10, p11)
+        s[j] = y
+        s[j + 1] = r
+        if i < 6:  # the rows of R: their low-passed change over the block (accelerometer bias)
+            work[N_REG + 9 + i] = y - y0
+        # the measurement is the correction's mean rate over the block, so the regressor is the filter output's
+        # mean over the block too, not its end value (half a block later): integrating the filter's ODE
+        # (tau²/2) y'' + tau y' + y = u over the block gives mean(y) = u - (tau Δy + tau²/2 Δy') / T exactly
+        lp[i] = v - (tau_acc * (y - y0) + 0.5 * tau_acc * tau_acc * (r - r0)) / T
     s[STARTED] = 1.0
     w2 = w2_sum / T
-    rm = (r_motion + kappa2 * w2) / T
+    # Linear acceleration a moves the filtered vector by LP[a]/g, whose horizontal rate the regression would
+    # read as a bias error; correlated over about tau_acc, it is a noise of density² mean(|d LP[a]/dt|²) tau/g²
+    # The departure a - LP[a], passed through the same low-pass, estimates LP[a]; its mean rate over the block
+    # is its change over T (the block mean held, lowpass2); horizontal: less its part along the filtered vector.
+    g2 = s[AFO] ** 2 + s[AFO + 1] ** 2 + s[AFO + 2] ** 2
+    r_acc = 0.0
+    if accu[26] > 0.0 and g2 > 0.0:
+        ra = np.empty(3)
+        for i in range(3):
+            v = accu[27 + i] / accu[26]
+            y, s[RLV + i] = lowpass2_step(s[RLP + i], s[RLV + i], v, p00, p01, p10, p11)
+            ra[i] = (y - s[RLP + i]) / T
+            s[RLP + i] = y
+        along = ra[0] * s[AFO] + ra[1] * s[AFO + 1] + ra[2] * s[AFO + 2]
+        r_acc = acc_factor * (ra[0] ** 2 + ra[1] ** 2 + ra[2] ** 2 - along * along / g2) * tau_acc / g2
+    rm = (r_motion + kappa2 * w2 + r_acc) / T
     for j in range(3):
         H[0, j] = lp[j]
         H[1, j] = lp[3 + j]
@@ -483,13 +564,23 @@ def _block(
         H[1, 3 + j] = lp[9 + j]
     z[0] = lp[12] - ex_sum / T
     z[1] = lp[13] - ey_sum / T
+    # An accelerometer bias b_a (sensor axes) leaves LP[R b_a] in the filtered vector, and the correction tilts
+    # by (δ_y, -δ_x)/g with it: over the block it turns by (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g, R_i the rows of R.
+    # The estimate in use is subtracted from the accelerometer, so only the rest is measured.
+    inv_gt = 1.0 / (math.sqrt(g2) * T) if g2 > 0.0 else 0.0
+    d0 = work[N_REG + 9 :]
+    for j in range(3):
+        H[0, 6 + j] = -d0[3 + j] * inv_gt
+        H[1, 6 + j] = d0[j] * inv_gt
+        z[0] += H[0, 6 + j] * x[6 + j]
+        z[1] += H[1, 6 + j] * x[6 + j]
     R[0] = rm
     R[1] = rm
     if not starting:  # while the start averages, the correction does not follow the low-pass the regression models
         kalman(x, P, H, z, R, 2, PHt, K, tmp)
     if at_rest:
         for a in range(3):
-            for j in range(6):
+            for j in range(NX):
                 H[a, j] = 0.0
             H[a, a] = 1.0
             R[a] = max(r_rest / T, rest_var)
@@ -497,8 +588,6 @@ def _block(
         z[1] = rgy
         z[2] = rgz
         kalman(x, P, H, z, R, 3, PHt, K, tmp)
-    for i in range(3):
-        x[i] = min(max(x[i], -clip), clip)
     if not use_mag or t_mag <= 0.0:
         return
     # magnetometer: the field in the 6D frame, its norm and dip against a learned reference, the heading offset
@@ -507,7 +596,7 @@ def _block(
     hz = accu[23] / t_mag
     nrm = math.sqrt(hx * hx + hy * hy + hz * hz)
     dip = math.atan2(-hz, math.sqrt(hx * hx + hy * hy))
-    if s[MREF] <= 0.0:  # first field: it is the reference
+    if s[MREF] <= 0.0:  # first field: it is the reference (a candidate until it has stayed consistent)
         s[MREF], s[MREF + 1], s[MCUR], s[MCUR + 1] = nrm, dip, nrm, dip
         for i in range(7):
             s[V7 + i] = accu[14 + i] / t_mag
@@ -515,6 +604,20 @@ def _block(
     s[MCUR + 1] += kcur * (dip - s[MCUR + 1])
     cn, cdp = s[MCUR], s[MCUR + 1]
     disturbed = abs(cn - s[MREF]) > norm_th * s[MREF] or abs(cdp - s[MREF + 1]) > dip_th
+    if s[MCONF] >= 0.0:
+        # The start: the first field is only a candidate until it has stayed consistent for mag_start_time (a
+        # phone's magnetometer may read a transient field for its first second).  A different field replaces it
+        # and restarts the heading mean, so that its first update sets the heading at once.
+        if disturbed:
+            s[MREF], s[MREF + 1] = cn, cdp
+            s[MCONF] = 0.0
+            s[MAGN] = 0.0
+            s[UND] = 0.0
+            disturbed = False
+        else:
+            s[MCONF] += T
+            if s[MCONF] >= start_time:
+                s[MCONF] = -1.0
     if disturbed and s[MOLD] > 0.0 and abs(cn - s[MOLD]) <= norm_th * s[MOLD] and abs(cdp - s[MOLD + 1]) <= dip_th:
         # the field is back to the one before the last change of reference (a disturbance that ended)
         s[MREF], s[MOLD] = s[MOLD], s[MREF]
@@ -541,7 +644,7 @@ def _block(
         err = (err + math.pi) % (2.0 * math.pi) - math.pi
         # the mean of the updates so far until it averages longer than tau_mag (VQF's fast start): the first
         # field sets the heading at once, also when the estimate started before the magnetometer's first sample
-        s[MAGN] += 1.0
+        s[MAGN] = 1.0 if starting else s[MAGN] + 1.0
         delta += max(kmag, 1.0 / s[MAGN]) * err
         delta = (delta + math.pi) % (2.0 * math.pi) - math.pi
         s[DELTA] = delta
@@ -551,14 +654,14 @@ def _block(
         step = (step + math.pi) % (2.0 * math.pi) - math.pi
         for j in range(6):
             H[0, j] = s[V7 + j]
+        for j in range(6, NX):
+            H[0, j] = 0.0
         z[0] = s[V7 + 6] - step / T
         R[0] = (r_mag + kappa2 * w2) / T
         kalman(x, P, H, z, R, 1, PHt, K, tmp)
-        for i in range(3):
-            x[i] = min(max(x[i], -clip), clip)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def smooth_directions(v, w, dts, tau):
     """Zero-phase weighted local-linear smoothing of direction vectors (rows of v), time constant tau.
 

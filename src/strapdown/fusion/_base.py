@@ -24,12 +24,21 @@ from .. import _validate as _v
 from ..frames import check_frame, frame_quaternion
 from ..quaternion import multiply, rotate
 
-__all__ = ["FLAG_ACC_REJECTED", "FLAG_INVERTED", "FLAG_MAG_REJECTED", "FLAG_REST", "Estimate", "Estimator"]
+__all__ = [
+    "FLAG_ACC_REJECTED",
+    "FLAG_BIAS_AT_LIMIT",
+    "FLAG_INVERTED",
+    "FLAG_MAG_REJECTED",
+    "FLAG_REST",
+    "Estimate",
+    "Estimator",
+]
 
 FLAG_REST = 1  # rest detected: the gyro bias is being learnt from the raw gyro
 FLAG_ACC_REJECTED = 2  # the accelerometer was left out (its magnitude too far from g, or no sample)
 FLAG_MAG_REJECTED = 4  # the magnetometer was left out (disturbed field)
 FLAG_INVERTED = 8  # within 1e-6 of upside down: the tilt quaternion chart is singular there (tilt.py)
+FLAG_BIAS_AT_LIMIT = 16  # the gyro bias estimate lies beyond its prior's spread (bias_limit) on some axis
 
 GRAVITY = 9.80665
 
@@ -53,7 +62,8 @@ class Estimate:
     bias : numpy.ndarray, shape (N, 3), or None
         Gyro bias estimate (rad/s, sensor axes), for filters that estimate one.
     flags : numpy.ndarray of uint8, shape (N,), or None
-        Bit mask per sample: ``FLAG_REST``, ``FLAG_ACC_REJECTED``, ``FLAG_MAG_REJECTED``, ``FLAG_INVERTED``.
+        Bit mask per sample: ``FLAG_REST``, ``FLAG_ACC_REJECTED``, ``FLAG_MAG_REJECTED``, ``FLAG_INVERTED``,
+        ``FLAG_BIAS_AT_LIMIT`` (values 1, 2, 4, 8, 16; defined in one place, fusion/_base.py).
     extra : dict
         Filter-specific outputs.
 
@@ -69,6 +79,13 @@ class Estimate:
 
     def __len__(self) -> int:
         return self.q.shape[0]
+
+    @property
+    def attitude(self):
+        """``q`` as a :class:`strapdown.Attitude` (sensor axes, not named, to ``frame``), sharing its memory."""
+        from ..attitude import Attitude
+
+        return Attitude._wrap(self.q, self.frame, None)
 
     @cached_property
     def tilt(self) -> np.ndarray:

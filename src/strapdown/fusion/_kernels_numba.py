@@ -101,3 +101,72 @@ def tilt_to_vertical(vx, vy, vz):
         return math.pi, 0.0  # straight down: half a turn about x
     angle = math.atan2(s, vz)
     return vy / s * angle, -vx / s * angle
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def lowpass2(h, tau):
+    """Exact step over h seconds of the second-order Butterworth low-pass with cutoff √2/tau rad/s.
+
+    The filter is the ODE y'' + (2/tau) y' + (2/tau²) y = (2/tau²) u, whose poles are (-1 ± i)/tau; with the input
+    held over the step (zero-order hold), the deviation d = y - u and the rate v = y' advance by the transition
+    matrix exp(A h) = [[c + s, tau s], [-2 s/tau, c - s]], c + i s = exp((-1 + i) h/tau).  The states are the
+    output and its rate, so they stay meaningful for any interval: a gap or a change of rate needs no restart
+    (a direct-form filter's states belong to the coefficients that made them, and swing when those change).
+    For h/tau < 0.05 the exponential is its Taylor series to the sixth power (error < 2e-12): jittered intervals
+    then cost no transcendental functions.  Returns the four entries of exp(A h), row by row.
+    """
+    th = h / tau
+    if th < 0.05:
+        c = 1.0 - th + th * th * th * (1.0 / 3.0 - th * (1.0 / 6.0 - th * (1.0 / 30.0)))
+        s = th * (1.0 - th + th * th * (1.0 / 3.0 - th * th * (1.0 / 30.0 - th * (1.0 / 90.0))))
+    else:
+        e = math.exp(-th)
+        c = e * math.cos(th)
+        s = e * math.sin(th)
+    return c + s, tau * s, -2.0 * s / tau, c - s
+
+
+NOMINAL_TAU = 1.0  # s: how fast the nominal sample interval follows a lasting lower rate (gap_step)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def gap_step(h, nominal):
+    """The weight of the previous gyro sample over an interval of h s, and the nominal interval after it.
+
+    A gyro sample is the rate over (or at the end of) its own sample interval, ``nominal`` (the shortest recent
+    interval).  An interval h longer than that holds missing samples: the part h - nominal between the previous
+    sample and this one is not covered by either.  Interpolating the rate linearly between the two samples (at
+    the centres of their intervals) gives it the mean (ω_prev + ω)/2, so the mean rate over the whole interval is
+    ω + w (ω_prev - ω) with w = (h - nominal) / (2h): exact for a rate that changes linearly, and 0 for regular
+    samples.  Applying ω alone over a gap errs by about the gap times the change of rate.  The nominal interval
+    drops at once to a shorter interval and rises towards a longer one in NOMINAL_TAU, so a lasting lower rate is
+    soon regular again.
+    """
+    if nominal <= 0.0:  # the first interval
+        return 0.0, h
+    w = 0.0
+    if h > nominal:
+        w = (h - nominal) / (2.0 * h)
+        nominal += (h - nominal) * min(1.0, h / NOMINAL_TAU)
+    else:
+        nominal = h
+    return w, nominal
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def gap_rate(h, nominal, wx, wy, wz, px, py, pz):
+    """The rate to apply over an interval of h s (gap_step), the nominal interval and previous sample after it.
+
+    Returns (rate x, y, z, nominal, previous x, y, z); an interval of 0 (a first sample) changes nothing.
+    """
+    if h <= 0.0:
+        return wx, wy, wz, nominal, px, py, pz
+    w, nominal = gap_step(h, nominal)
+    return wx + w * (px - wx), wy + w * (py - wy), wz + w * (pz - wz), nominal, wx, wy, wz
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def lowpass2_step(y, v, u, p00, p01, p10, p11):
+    """One step of the low-pass of ``lowpass2`` (its four coefficients) from output y and rate v, input u held."""
+    d = y - u
+    return u + p00 * d + p01 * v, p10 * d + p11 * v

@@ -19,26 +19,82 @@ How it works
    six-state Kalman filter also estimates the scale factors, because in fast motion scale errors drift the
    frame far more than bias does: on BROAD this alone lowers the 6D inclination error by a tenth.  A
    measurement is trusted less the faster the body turns (``bias_noise_rate_factor``), since unmodelled gyro
-   errors grow with the rate.
+   errors grow with the rate, and the more the body accelerates (``bias_noise_acc_factor``): the low-pass
+   leaves LP[a] of a linear acceleration a in the filtered vector, and its horizontal rate over g moves the
+   correction exactly as a bias error would.  The accelerometer's departure from the filtered vector, a - LP[a],
+   passed through the same low-pass, estimates LP[a] (for the frequencies above the cutoff that move it; slower
+   ones are indistinguishable from gravity anyway), and its rate, correlated over about tau_acc, adds
+   mean(|rate|²) tau_acc / g² (times the factor²) to the measurement's noise density².  In simulation, a body
+   accelerating at 2 m/s² learns a wrong bias without it (with it, the inclination error is 0.88 of that without:
+   tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
+   on BROAD (benchmarks/bench_attitude.py), where larger values cost the bias learning more than they save.
+   An accelerometer bias b_a leaves LP[R b_a] in the filtered vector, which turns with the body and so also
+   moves the correction like a gyro bias: a consumer accelerometer's 20 mg, uncorrected, makes the regression
+   learn a wrong gyro bias (benchmarks/bench_testbed.py: consumer IMU 1.57° 6D against VQF's 1.27°).  With
+   ``acc_bias_sigma_init`` > 0 three more states model it: over a block the correction turns by
+   (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g (R_i the rows of R, ΔLP their low-passed change), and the estimate is
+   subtracted from the accelerometer (test-bed: 1.02°; tests/fusion/test_attitude.py).  It is off by default:
+   on BROAD's hand-held motion it costs (6D 0.64° -> 0.67° at 0.03 m/s²), since linear accelerations that turn
+   with the body (a lever arm) look the same to it.
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
-   mean rate is small enough to be a bias (a turntable is steady but not at rest), the mean gyro is a direct
-   measurement of the bias on all three axes, as noisy as the gyro's scatter about that mean says.
+   mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
+   mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
+   mean says.
+   The bias prior.  Gyro biases of a sensor class spread about zero (``bias_limit``), and a bias wanders.  A
+   first-order Gauss-Markov process models both: stationary spread ``bias_limit``, correlation time
+   t_c = 2 bias_limit² / q (q = bias_sigma_init² / bias_forgetting_time, the wander rate), so that far inside the
+   prior the bias wanders exactly as a random walk of rate q, and the prior pulls towards zero only at the rate
+   1/t_c (about an hour for the defaults).  A clip would hold a real 4.5°/s bias at the limit and leave the
+   attitude drifting; the prior learns it (tests/fusion/test_attitude.py) and flags it, FLAG_BIAS_AT_LIMIT.
 5. Heading (9D).  The magnetic field, taken into the 6D frame, gives a heading offset δ that a first-order
    filter (``tau_mag``) follows about the vertical only, so the magnetometer never tilts the estimate:
    ``q = q_z(δ) ⊗ q_6D``; until it has averaged that long it is the mean of the updates so far, so the first
-   field sets the heading at once.  The field's norm and dip are compared with a slowly learnt reference;
+   field sets the heading at once.  While the accelerometer start (step 2) still averages, its tilt, and so the
+   field's heading in it (a tilt error ε shows as ε tan(dip) of heading), is poorer than the filter's after it:
+   each update then sets the heading afresh, and the mean starts when the filter takes over.  In simulated
+   starts in motion this brings the heading within 2° after 10 s where the mean over the whole start left
+   4.5° (tests/fusion/test_attitude.py).  The first field is only a candidate for the reference until its norm
+   and dip have stayed consistent for ``mag_start_time``; a different field meanwhile (a phone magnetometer's
+   first second, say) replaces it and restarts the heading.  The field's norm and dip are compared with a slowly
+   learnt reference;
    while they differ (a magnet, steel nearby) the magnetometer is left out and flagged.  A disturbance that lasts
    ``mag_new_time`` is taken as a new environment, and a return to the previous field is recognised at once.
    The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
    see on a level platform.
-6. Offline (:func:`attitude_offline`).  The recording runs forward and backward in time with time constants
-   ``offline_time_factor`` times longer; their lags are equal and opposite, so their weighted mean cancels them.
-   With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed forward
-   and backward in time by a local-linear fit (which follows the ramp a vertical gyro bias gives the 6D heading
-   right to the ends of the record), with the samples either pass found disturbed left out.
+6. Offline (:func:`attitude_offline`).  A smoother of the bias and scale states, then of the attitude.  The
+   estimator runs forward and backward in time (time constants ``offline_time_factor`` times longer, 9D with a
+   magnetometer); at each sample the two bias estimates, each from one side of the record and so independent,
+   are combined by their inverse variances (the two-filter form of the Rauch-Tung-Striebel smoother), and the
+   scale is the mean of the two passes' final estimates, each of which has seen the whole record.  Two 6D
+   passes, forward and backward, then run on the gyro corrected by that smoothed bias and scale, holding them:
+   no pass spends its first minutes learning what the other end of the record already knows.  Their lags are
+   equal and opposite, so their weighted mean (weights 1 - exp(-t/tau_acc) from each pass's start) cancels
+   them.  With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed
+   forward and backward in time by a local-linear fit (time constant ``offline_heading_tau``; it follows the
+   ramp a residual vertical bias gives the 6D heading right to the ends of the record), with the samples
+   either bias pass found disturbed left out.
 
 Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
 Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.
+
+Irregular sampling.  Every coefficient is computed for the interval it spans, so jitter, dropped rows and gaps
+cost only the information they take away:
+
+* The low-passes (the accelerometer's, per sample, and the regressors', per block) are one continuous
+  second-order Butterworth filter, stepped exactly over each interval with the input held (``lowpass2`` in
+  _kernels_numba.py).  Its states are the output and its rate, which mean the same whatever the interval; a
+  direct-form filter's states belong to the coefficients that made them, and when a dropped row changed those
+  for one step the output jumped (10 % of BROAD's rows dropped multiplied the 9D error by 5, 6D by 7).  No restart is
+  needed after a gap.  The regressor is the filter output's mean over the block, as the measurement is the
+  correction's mean rate over it (an exact integral of the filter's ODE).
+* An interval longer than the nominal one (the shortest recent interval) holds lost gyro samples: the rate over
+  the uncovered part is interpolated linearly between the samples on either side (``gap_step``), which
+  integrates a linearly changing rate exactly; applying the next sample's rate over the whole gap errs by about
+  the gap times the change of rate.  A lasting lower rate becomes the nominal interval within about a second.
+* The rest detector's and the magnetometer's first-order means use 1 - exp(-interval/tau).
+
+``benchmarks/bench_attitude.py --irregular`` measures it on BROAD (rows dropped at random with their true times,
+and NaN accelerometer and magnetometer rows); tests/fusion/test_attitude.py on simulated data.
 
 The defaults were chosen once on the 22 BROAD trials (one common set, BROAD's rule) and are physical: time
 constants in seconds, rates in rad/s, noise densities in rad/s·√s.  The results change little across a wide
@@ -81,6 +137,10 @@ class AttitudeParams:
         tells the bias to about that much).
     bias_noise_rate_factor : float
         Growth of that noise with the angular rate, √s (noise² += factor² |ω|²).  Default 6e-4.
+    bias_noise_acc_factor : float
+        Growth of the in-motion noise with the linear acceleration a (dimensionless): noise² += factor²
+        mean(|d LP[a]/dt|²_horizontal) tau_acc / g², the rate at which the low-passed acceleration moves the
+        correction (module notes, step 3).  Default 0.1 (leave-one-group-out on BROAD); 0 turns it off.
     bias_noise_rest : float
         Least noise density of the at-rest bias measurement, rad/s·√s (default 0.0018°/s·√s).  Above it the
         noise comes from the gyro's own scatter at rest, so that ``bias_sigma`` stays honest for noisy gyros.
@@ -88,6 +148,11 @@ class AttitudeParams:
         Initial uncertainty of the gyro scale-factor errors (dimensionless, default 0.002 = 0.2 %).
     scale_noise : float
         Random walk of the scale-factor errors, 1/√s (default 1e-5).
+    acc_bias_sigma_init : float
+        Initial uncertainty of the accelerometer bias, m/s²; 0 (the default) leaves it out.  0.1 (about 10 mg)
+        suits an accelerometer that was not calibrated (module notes, step 3).
+    acc_bias_noise : float
+        Random walk of the accelerometer bias, m/s²/√s (default 1e-4).
     bias_noise_mag : float
         Noise density of the vertical-bias measurement from the heading rate, rad/s·√s (default 1.8°/s·√s);
         0 turns it off.
@@ -100,7 +165,11 @@ class AttitudeParams:
     rest_tau : float
         Time constant of the rest detector's means, s.  Default 0.5.
     bias_limit : float
-        Largest bias believed on any axis, rad/s (default 2°/s).
+        Spread (standard deviation) of the bias prior, rad/s (default 2°/s).  The bias is modelled as a
+        Gauss-Markov process with this stationary spread that wanders as ``bias_forgetting_time`` says, so a
+        larger bias the data show is learnt, not clipped; while an estimate lies beyond it on some axis the
+        samples carry ``FLAG_BIAS_AT_LIMIT`` (check the sensor).  A steady mean rate up to three times it is
+        taken as a bias at rest; a faster one is a steady turn.
     mag_norm_threshold : float
         Relative departure of the field norm from its reference that counts as disturbed.  Default 0.1.
     mag_dip_threshold : float
@@ -111,11 +180,19 @@ class AttitudeParams:
         Time constant of the current norm and dip, s.  Default 0.05.
     mag_new_time : float
         Seconds of a steady new field after which it becomes the reference.  Default 20.
+    mag_start_time : float
+        Seconds the first field must stay consistent (norm and dip within the thresholds) before it becomes the
+        reference; a different field meanwhile replaces it and sets the heading afresh.  Default 2.
     update_rate : float
         Rate of the bias, scale and heading updates, Hz.  Default 5: the regressors are low-passed over
         seconds, and on BROAD 2-50 Hz give the same errors within 0.05°.
     offline_time_factor : float
-        :func:`attitude_offline` runs with ``tau_acc`` and ``tau_mag`` multiplied by this.  Default 1.5.
+        :func:`attitude_offline` learns the bias and scale in passes with ``tau_acc`` and ``tau_mag`` multiplied
+        by this.  Default 1.5.
+    offline_heading_tau : float
+        Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
+        Default 100 (leave-one-group-out on BROAD): with the bias smoothed, the 6D heading drifts only with what
+        is left of it, a ramp the local-linear fit follows, so the field can be averaged longer than online.
     """
 
     tau_acc: float = 3.5
@@ -125,8 +202,11 @@ class AttitudeParams:
     bias_noise_motion: float = 0.18 * _DEG
     bias_noise_rate_factor: float = 6e-4
     bias_noise_rest: float = 0.0018 * _DEG
+    bias_noise_acc_factor: float = 0.1
     scale_sigma_init: float = 0.002
     scale_noise: float = 1e-5
+    acc_bias_sigma_init: float = 0.0
+    acc_bias_noise: float = 1e-4
     bias_noise_mag: float = 1.8 * _DEG
     rest_gyro: float = 2.0 * _DEG
     rest_acc: float = 0.5
@@ -138,11 +218,22 @@ class AttitudeParams:
     mag_ref_tau: float = 20.0
     mag_current_tau: float = 0.05
     mag_new_time: float = 20.0
+    mag_start_time: float = 2.0
     update_rate: float = 5.0
     offline_time_factor: float = 1.5
+    offline_heading_tau: float = 100.0
 
     def __post_init__(self):
-        zero_ok = {"bias_noise_rate_factor", "scale_sigma_init", "scale_noise", "bias_noise_mag", "rest_time"}
+        zero_ok = {
+            "bias_noise_acc_factor",
+            "bias_noise_rate_factor",
+            "scale_sigma_init",
+            "scale_noise",
+            "acc_bias_sigma_init",
+            "acc_bias_noise",
+            "bias_noise_mag",
+            "rest_time",
+        }
         for f in fields(self):
             v = getattr(self, f.name)
             if not isinstance(v, Real) or isinstance(v, (bool, np.bool_)) or not np.isfinite(v):
@@ -175,6 +266,9 @@ class AttitudeParams:
                 self.mag_current_tau,
                 self.mag_new_time,
                 1.0 / self.update_rate,
+                self.bias_noise_acc_factor**2,
+                self.mag_start_time,
+                self.acc_bias_noise**2 if self.acc_bias_sigma_init > 0 else 0.0,  # off: the states stay at 0
             ]
         )
 
@@ -183,7 +277,7 @@ class AttitudeParams:
 _LAYOUT = (
     ("q_gyro", "QG", 4),
     ("q_correction", "QC", 3),
-    ("acc_filter", "AF", 6),
+    ("acc_filter_rate", "AF", 3),
     ("bias_scale", "X", 6),
     ("regressor_filter", "REG", 28),
     ("mag_regressors", "V7", 7),
@@ -204,12 +298,20 @@ _LAYOUT = (
     ("started", "STARTED", 1),
     ("acc_gap_seconds", "TACC", 1),
     ("acc_filter_output", "AFO", 3),
-    ("acc_filter_interval", "AFDT", 1),
     ("rest_gyro_variance", "RESTV", 1),
     ("acc_start_seconds", "AINIT", 1),
     ("acc_start_sum", "ASUM", 3),
     ("acc_start_count", "ACNT", 1),
     ("mag_updates", "MAGN", 1),
+    ("gyro_previous", "GPREV", 3),
+    ("nominal_interval", "NOMDT", 1),
+    ("linear_acc_seconds", "ALIN", 1),
+    ("linear_acc_filter", "RLP", 3),
+    ("linear_acc_filter_rate", "RLV", 3),
+    ("mag_start_seconds", "MCONF", 1),
+    ("acc_bias", "XA", 3),
+    ("rest_acc_last", "ALAST", 3),
+    ("linear_acc_block_sum", "ARES", 3),
 )
 
 
@@ -235,8 +337,9 @@ class AttitudeEstimator(Estimator):
     by half a step, which matters only where half a step's rotation is large (10° at 2000°/s and 100 Hz).  The
     :class:`~strapdown.fusion.Estimate` carries ``q``, ``bias`` (rad/s), ``flags`` (``FLAG_REST``,
     ``FLAG_ACC_REJECTED`` for a missing accelerometer sample, ``FLAG_MAG_REJECTED`` while the field is
-    disturbed) and ``extra["bias_sigma"]``, the bias's standard deviation per axis (rad/s).  ``.state`` reads and
-    restores everything; ``.scale`` and ``.bias_sigma`` give the current estimates.
+    disturbed, ``FLAG_BIAS_AT_LIMIT`` while the bias lies beyond its prior's spread) and ``extra["bias_sigma"]``,
+    the bias's standard deviation per axis (rad/s).  ``.state`` reads and restores everything; ``.scale`` and
+    ``.bias_sigma`` give the current estimates.
 
     Examples
     --------
@@ -302,6 +405,11 @@ class AttitudeEstimator(Estimator):
         return None if self._state is None else self._state["bias_scale"][3:].copy()
 
     @property
+    def acc_bias(self) -> np.ndarray | None:
+        """The current accelerometer bias estimate, m/s² (sensor axes; zero unless ``acc_bias_sigma_init`` > 0)."""
+        return None if self._state is None else self._state["acc_bias"].copy()
+
+    @property
     def bias_sigma(self) -> np.ndarray | None:
         """Standard deviation of the bias estimate, rad/s."""
         return None if self._state is None else np.sqrt(np.diag(self._state["covariance"])[:3])
@@ -316,13 +424,13 @@ class AttitudeEstimator(Estimator):
         s[k.QC] = 1.0
         s[k.EXS] = 1.0
         ka = _first_present(acc, "acc")
-        # the filter starts in steady state at the first sample once its interval is known (AFDT = 0: the kernel
-        # restarts it at its first step), so that the first chunk's length does not matter; a first sample
+        # the filter starts at the first sample (in the start's averaging, then at rest: rate 0); a first sample
         # later than the first row is turned back to the sensor axes of the first row, which q is for
         s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyr, dts, ka, acc[ka]))
         s[k.RESTA : k.RESTA + 3] = acc[ka]
+        s[k.ALAST : k.ALAST + 3] = acc[ka]
         s[k.MOLD] = -1.0
-        cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3)
+        cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3 + [p.acc_bias_sigma_init**2] * 3)
         state = {"q": q.copy(), "covariance": cov}
         for name, off, size in _LAYOUT:
             state[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
@@ -450,16 +558,18 @@ def attitude_offline(
 ) -> Estimate:
     """Orientation from a whole recording, using the future as well as the past (module notes, step 6).
 
-    1. The 6D estimator runs forward and backward in time with ``tau_acc`` and ``tau_mag`` multiplied by
-       ``params.offline_time_factor``; their lags are equal and opposite, and each sample takes their mean,
-       weighted by how long each pass has been running (``1 - exp(-t/tau_acc)``), after turning the backward
-       heading onto the forward one.
-    2. With a magnetometer, the field is taken into that combined 6D frame and the heading that turns it north
-       is smoothed forward and backward in time by a local-linear fit (time constant ``tau_mag``; no lag
-       behind the heading drift of a vertical gyro bias, even at the ends), leaving out every sample either
-       9D pass flagged as magnetically disturbed; the gaps are bridged by the samples around them.  If every
-       sample is disturbed (a magnetometer with uncalibrated hard iron, say), the combined 6D attitude is
-       turned onto the forward 9D pass's mean heading instead.
+    1. The estimator (9D with a magnetometer) runs forward and backward in time with ``tau_acc`` and
+       ``tau_mag`` multiplied by ``params.offline_time_factor``; at each sample the two bias estimates are
+       combined by inverse variance (two-filter smoother), and the scale is the mean of the passes' final ones.
+    2. Forward and backward 6D passes on the gyro corrected by that bias and scale (held fixed) give the
+       inclination: each sample takes their mean, weighted by how long each pass has been running
+       (``1 - exp(-t/tau_acc)``), after turning the backward heading onto the forward one.
+    3. With a magnetometer, the field is taken into that combined 6D frame and the heading that turns it north
+       is smoothed forward and backward in time by a local-linear fit (time constant
+       ``offline_heading_tau``), leaving out every sample either pass of step 1 flagged as magnetically
+       disturbed; the gaps are bridged by the samples around them.  If every sample is disturbed (a
+       magnetometer with uncalibrated hard iron, say), the combined 6D attitude is turned onto the forward
+       pass's mean heading instead.
 
     Parameters
     ----------
@@ -473,9 +583,9 @@ def attitude_offline(
     Returns
     -------
     Estimate
-        Attitudes, the two passes' bias estimates weighted by their inverse variances, with the standard
-        deviation of that mean (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest and
-        missing accelerometer from the forward pass, magnetic disturbance from either.
+        Attitudes, the smoothed bias (the two passes' estimates weighted by their inverse variances) with its
+        standard deviation (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest, missing
+        accelerometer and bias at the limit from the forward pass, magnetic disturbance from either.
 
     Examples
     --------
@@ -496,8 +606,10 @@ def attitude_offline(
     # imaginary part in asarray, and a scalar mag (attitude_offline(g, a, 0.5)) gave an IndexError
     a = _v.vectors(acc, "acc", check=False, dtype=np.float64)
     m = None if mag is None else _v.vectors(mag, "mag", check=False, dtype=np.float64)
-    fwd = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
-    fwd6 = fwd.update(g, a, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
+    # 1. the bias and scale: forward and backward passes, combined per sample by inverse variance (the
+    # two-filter smoother: each pass has seen one side of the sample, independently)
+    first = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
+    fwd = first.update(g, a, m, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
     if known_acc is not None:
         a = a - np.asarray(known_acc, dtype=np.float64)  # validated by the forward pass
     if g.shape[0] == 0:  # nothing to smooth
@@ -505,21 +617,31 @@ def attitude_offline(
         empty.extra = {"bias_sigma": np.zeros((0, 3))}
         return empty
     gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
+    back = AttitudeEstimator(po)
+    bwd = back.update(gr, ar, mr, dt=dtr, t=tr)
+    sigma_f, sigma_b = fwd.extra["bias_sigma"], bwd.extra["bias_sigma"][::-1]
+    info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
+    bias = (info_f * fwd.bias - info_b * bwd.bias[::-1]) / (info_f + info_b)  # the backward rates are negated
+    sigma = 1.0 / np.sqrt(info_f + info_b)
+    scale = 0.5 * (first.scale + back.scale)  # each pass's final estimate has seen the whole record
+    # 2. the attitude: forward and backward 6D passes on the gyro corrected by the smoothed bias and scale, which
+    # they hold (so that no pass spends its first minutes learning what the other side of the record knows)
+    corrected = g - bias - scale * g
+    held = replace(p, bias_sigma_init=1e-9 * _DEG, scale_sigma_init=0.0, bias_noise_mag=0.0)
+    fwd6 = AttitudeEstimator(held).update(corrected, a, dt=dt, t=t)
+    gcr, _, _, _, _ = _reverse(corrected, a, None, dt, t)
+    bwd6 = AttitudeEstimator(held).update(gcr, ar, dt=dtr, t=tr)
     intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
     n = g.shape[0]
     if intervals is None:
         intervals = np.broadcast_to(np.asarray(dt, dtype=np.float64), (n,))[1:]
     time = np.concatenate([[0.0], np.cumsum(intervals)])
-    bwd6 = AttitudeEstimator(po).update(gr, ar, dt=dtr, t=tr)
-    wf = 1.0 - np.exp(-time / po.tau_acc) + 1e-12
-    wb = 1.0 - np.exp(-(time[-1] - time) / po.tau_acc) + 1e-12
+    wf = 1.0 - np.exp(-time / held.tau_acc) + 1e-12
+    wb = 1.0 - np.exp(-(time[-1] - time) / held.tau_acc) + 1e-12
     q = _combine(fwd6.q, bwd6.q[::-1], wf, wb, align_heading=True)
-    bias_f, bias_b, flags = fwd6.bias, -bwd6.bias[::-1], fwd6.flags.copy()
-    sigma_f, sigma_b = fwd6.extra["bias_sigma"], bwd6.extra["bias_sigma"][::-1]
+    flags = fwd.flags.copy()
     if m is not None:
-        fwd9 = AttitudeEstimator(po).update(g, a, m, dt=dt, t=t)
-        bwd9 = AttitudeEstimator(po).update(gr, ar, mr, dt=dtr, t=tr)
-        disturbed = ((fwd9.flags | bwd9.flags[::-1]) & FLAG_MAG_REJECTED) > 0
+        disturbed = ((fwd.flags | bwd.flags[::-1]) & FLAG_MAG_REJECTED) > 0
         h = rotate(q, np.nan_to_num(m))
         psi = np.arctan2(h[:, 0], h[:, 1])  # the heading offset that turns the field north (+y of ENU)
         weight = (~disturbed & np.isfinite(m[:, 0])).astype(np.float64)
@@ -527,21 +649,15 @@ def attitude_offline(
             # local-linear: the 6D passes cannot see a vertical gyro bias, so psi drifts in a ramp, which an
             # exponential mean would lag by tau_mag times its slope at both ends of the record
             smooth = smooth_directions(
-                np.column_stack([np.cos(psi), np.sin(psi)]), weight, np.r_[0.0, intervals], po.tau_mag
+                np.column_stack([np.cos(psi), np.sin(psi)]), weight, np.r_[0.0, intervals], p.offline_heading_tau
             )
             delta = np.arctan2(smooth[:, 1], smooth[:, 0])
             q = multiply(np.column_stack([np.cos(delta / 2), 0 * delta, 0 * delta, np.sin(delta / 2)]), q, check=False)
         else:  # disturbed everywhere (an uncalibrated magnetometer): keep the forward 9D pass's mean heading
-            q = _align_heading(fwd9.q, q, np.ones(n))
-        bias_f, bias_b = fwd9.bias, -bwd9.bias[::-1]
-        sigma_f, sigma_b = fwd9.extra["bias_sigma"], bwd9.extra["bias_sigma"][::-1]
-        flags = (fwd9.flags & np.uint8(0xFF ^ FLAG_MAG_REJECTED)) | np.where(disturbed, FLAG_MAG_REJECTED, 0).astype(
+            q = _align_heading(fwd.q, q, np.ones(n))
+        flags = (fwd.flags & np.uint8(0xFF ^ FLAG_MAG_REJECTED)) | np.where(disturbed, FLAG_MAG_REJECTED, 0).astype(
             np.uint8
         )
     if frame != "ENU":
         q = multiply(frame_quaternion("ENU", frame), q, check=False)
-    # the two passes' bias estimates, each weighted by how well it knows the bias (inverse variance)
-    info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
-    bias = (info_f * bias_f + info_b * bias_b) / (info_f + info_b)
-    sigma = 1.0 / np.sqrt(info_f + info_b)
     return Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})

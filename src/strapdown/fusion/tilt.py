@@ -17,7 +17,9 @@ accelerometer, or inclinometer angles):
 1. ``q_g`` integrates the bias-corrected gyro exactly: the frame it maps to drifts only with the bias error, so
    it is almost inertial.
 2. The tilt-sensor vector (accelerometer minus any known kinematic acceleration) is rotated into that frame
-   and low-passed over ``tau_acc`` seconds.  There, linear acceleration averages out (velocity stays bounded)
+   and low-passed over ``tau_acc`` seconds by a second-order Butterworth filter stepped exactly over each
+   interval (``lowpass2``; it replaced two first-order stages, whose slower roll-off let more acceleration
+   through: BROAD 0.80° -> 0.76°).  There, linear acceleration averages out (velocity stays bounded)
    while gravity does not.  This is the idea of VQF (Laidig & Seel, Information Fusion 2023), and it is what
    makes the tilt survive sustained accelerations that defeat a proportional loop on the raw accelerometer.
 3. ``q_c`` is the tilt quaternion that turns the filtered vector vertical (math.md §5.5: the patent's tilt
@@ -29,12 +31,16 @@ accelerometer, or inclinometer angles):
    the almost-inertial frame turns and the correction ``q_c`` has to turn with it at the rate of the error, so
    the correction rate, taken to body axes, is fed back with time constant ``tau_bias``.  That rate has no
    component about the vertical, so in motion only the two horizontal components of the bias are observable;
-   the vertical one is learnt only at rest.
+   the vertical one is learnt only at rest.  ``bias_limit`` is a prior's bound, not a clip: the estimate leaks
+   towards zero over ten hours (a Gauss-Markov bias) and is flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so
+   a real 4.5°/s bias is learnt instead of held at the limit.
+5. Irregular sampling: every coefficient is computed for its interval, and over an interval that holds lost
+   rows the gyro rate is interpolated across the gap (as in the AttitudeEstimator, whose notes explain it).
 
 Where the patent leaves the design open (its gains and rates were not retrieved, math.md §5.6), these choices
-are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule; 0.80° mean
-inclination RMSE, against 0.76° for VQF in the same run); results change little across a wide range
-(``tau_acc`` 1.5-2.5 s with ``tau_bias`` 50-200 s gives 0.79-0.85°: ``strapdown evaluate -g``).
+are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule; 0.758° mean
+inclination RMSE, against 0.764° for VQF in the same run; ``tau_acc`` by leave-one-group-out,
+benchmarks/bench_attitude.py).
 """
 
 from __future__ import annotations
@@ -243,8 +249,9 @@ class TiltParams:
     Attributes
     ----------
     tau_acc : float
-        Time constant of the tilt sensor's low-pass filter in the almost-inertial frame, s.  Longer rejects
-        more linear acceleration, shorter follows a drifting gyro closer.  Default 2.0.
+        Time constant of the tilt sensor's low-pass filter (second-order Butterworth, cutoff √2/tau_acc rad/s)
+        in the almost-inertial frame, s.  Longer rejects more linear acceleration, shorter follows a drifting
+        gyro closer.  Default 3.0, VQF's for the same filter (on BROAD 2.5-3.0 s give 0.75-0.76°).
     tau_bias : float
         Time constant of the gyro-bias learning in motion (the patent's integral drift loop), s; 0 disables
         it.  Default 100.  On a rocking platform the two horizontal components come within 1 % of a constant
@@ -260,13 +267,16 @@ class TiltParams:
     tau_rest_bias : float
         Time constant with which the bias follows the gyro at rest, s.  Default 1.0.
     bias_limit : float
-        Largest bias magnitude believed, per axis, rad/s (also the largest mean rate at rest).  Default 2°/s.
+        Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
+        pulled towards zero over ten hours (a Gauss-Markov bias), so a larger bias the data show is learnt, and
+        flagged ``FLAG_BIAS_AT_LIMIT`` while it lies beyond the bound; a steady mean rate up to three times it
+        counts as a bias at rest.
     acc_gate : float
         Leave the tilt sensor out of the low-pass filter when its magnitude differs from g by more than this,
         m/s² (a gate against shocks); inf keeps every sample.  Default inf.
     """
 
-    tau_acc: float = 2.0
+    tau_acc: float = 3.0
     tau_bias: float = 100.0
     rest_gyro: float = float(np.radians(2.0))
     rest_acc: float = 0.5
@@ -313,8 +323,9 @@ class TiltEstimator(Estimator):
     ``.state`` (readable and assignable) holds the estimate ``q`` = ``q_correction ⊗ q_gyro``, the gyro-frame
     attitude ``q_gyro``, the correction ``q_correction`` (a tilt quaternion, e3 = 0) and its previous value
     ``q_correction_previous`` (the drift loop runs one sample late, see the kernel), ``bias`` (rad/s),
-    ``acc_filter`` (2, 3) (the two low-pass stages, m/s², almost-inertial frame), ``rest_filter`` (6,) (0.5 s
-    means of gyro and tilt sensor) and ``rest_seconds``, all in ENU.
+    ``acc_filter`` (2, 3) (the low-pass filter's rate, m/s³, and output, m/s², almost-inertial frame),
+    ``rest_filter`` (6,) (0.5 s means of gyro and tilt sensor), ``rest_seconds``, ``gyro_previous`` (3,) and
+    ``nominal_interval`` (the rate interpolation across lost rows), all in ENU.
 
     Examples
     --------
@@ -404,9 +415,11 @@ class TiltEstimator(Estimator):
             "q_correction": np.array([1.0, 0.0, 0.0, 0.0]),  # q_c: a tilt quaternion (e3 = 0)
             "q_correction_previous": np.array([1.0, 0.0, 0.0, 0.0]),  # q_c one sample earlier (drift loop)
             "bias": self._bias0.copy(),
-            "acc_filter": np.array([a_i, a_i]),  # the two low-pass stages, almost-inertial frame, m/s²
+            "acc_filter": np.array([np.zeros(3), a_i]),  # the low-pass's rate and output, almost-inertial frame
             "rest_filter": np.concatenate([np.zeros(3), acc[0]]),  # 0.5 s means of gyro and tilt sensor
             "rest_seconds": 0.0,
+            "gyro_previous": np.zeros(3),  # the last gyro sample, rad/s (rate interpolation across lost rows)
+            "nominal_interval": 0.0,  # s, the shortest recent sample interval (0: none yet)
         }
 
     @property
@@ -433,6 +446,8 @@ class TiltEstimator(Estimator):
                 st["acc_filter"].ravel(),
                 st["rest_filter"],
                 [st["rest_seconds"]],
+                st.get("gyro_previous", np.zeros(3)),  # states saved before these existed restore too
+                [st.get("nominal_interval", 0.0)],
             ]
         )
         k.run(
@@ -460,6 +475,8 @@ class TiltEstimator(Estimator):
         st["acc_filter"] = s[k.LP1 : k.LP2 + 3].reshape(2, 3)
         st["rest_filter"] = s[k.GLP : k.ALP + 3].copy()
         st["rest_seconds"] = float(s[k.REST])
+        st["gyro_previous"] = s[k.GPREV : k.GPREV + 3].copy()
+        st["nominal_interval"] = float(s[k.NOMDT])
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
 
 

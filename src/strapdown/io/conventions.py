@@ -139,8 +139,8 @@ def resolve_axes(imu, frame: str | None, body: str | None, out_body: str | None)
 def time_metadata(imu, t_first: float) -> dict:
     """``time_unit`` and the origin of ``t = 0`` (the first sample) for the output's metadata.
 
-    The reader's ``imu.time_origin`` when it knows one (epoch or boot time); else the input's own time scale:
-    ``t_first`` seconds (float times), or the first integer of an integer time column in its unit.
+    The reader's ``imu.time_origin`` when it knows one (an epoch, a logger's boot time, or the shift of a file's own
+    float times); else the file's times start at zero (``t_first``, normally 0), or rows are timed by a rate.
     """
     meta = {"time_unit": "s"}
     origin = getattr(imu, "time_origin", None)
@@ -149,20 +149,9 @@ def time_metadata(imu, t_first: float) -> dict:
         if t_first:  # a reader that left t not starting at zero: the shift is part of the origin
             meta["time_origin_offset_s"] = repr(float(t_first))
         return meta
+    meta.update(time_origin=repr(float(t_first)), time_origin_unit="s", time_origin_kind="file")
     if imu.time is None:
-        meta.update(time_origin="0", time_origin_unit="s", time_origin_kind="file")
         meta["time_origin_note"] = f"rows timed by a rate of {imu.rate:g} Hz"
-        return meta
-    name = imu.time.fields[0]
-    first = getattr(imu.source, "origins", {}).get(name)
-    if first is not None and t_first == 0.0:
-        # an integer or date-time column, counted from its first value by the reader
-        unit = "ns" if imu.source.is_timestamp(name) else imu.units.get("time", "s")
-        kind = "epoch" if imu.source.is_timestamp(name) else "file"
-        value = str(np.datetime64(first, "ns").astype(np.int64)) if kind == "epoch" else first
-        meta.update(time_origin=value, time_origin_unit=unit, time_origin_kind=kind)
-    else:
-        meta.update(time_origin=repr(float(t_first)), time_origin_unit="s", time_origin_kind="file")
     return meta
 
 

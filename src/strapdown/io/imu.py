@@ -10,6 +10,8 @@ user needs to fix it: the file, the column and the line (CSV) or row:
 * a column that is not there (the message lists those that are), arrays of different lengths (HDF5, .mat);
 * NaN, empty or infinite values (the first line numbers);
 * time that does not increase (where, and the two values), gaps longer than ``max_gap`` sample periods;
+* magnitudes no sensor reads in any unit (:data:`strapdown.io.units.LIMITS`: 1e4 rad/s, 1e7 m/s², 1e7 µT),
+  the line and column named, in every chunk and whatever ``unit_check`` says;
 * units that the magnitudes contradict (:func:`strapdown.io.units.check_plausible`).
 """
 
@@ -21,9 +23,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
+from .formats.multi import kind_of_file
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
-from .units import check_gravity_sign, check_gyro_at_rest, check_plausible, parse_unit, scale
+from .units import (
+    check_gravity_sign,
+    check_gyro_at_rest,
+    check_magnitude,
+    check_plausible,
+    parse_unit,
+    row_norms,
+    scale,
+)
 
 __all__ = ["ImuChunk", "ImuColumns", "ImuFile", "read_imu"]
 
@@ -58,7 +69,8 @@ class ImuColumns:
     max_gap : float
         Largest step allowed between two times, in nominal sample periods (0: no check).
     unit_check : bool
-        Check that the magnitudes fit the units.
+        Check that the magnitudes fit the units.  Magnitudes no sensor reads in any unit
+        (:data:`strapdown.io.units.LIMITS`) are refused either way: no estimator can use them.
     format : str, optional
         The input format when the layout or suffix does not tell it (:data:`strapdown.io.readers.INPUT_FORMATS`).
     topic : str, optional
@@ -212,7 +224,9 @@ class ImuFile:
             elif kind in self.source.presets:
                 pick = Pick(tuple(self.source.presets[kind]))
             else:
-                pick = detect_vector(kind, fields, units=self.source.units)
+                # bare x, y, z columns count for the sensor a file is named after (Gyroscope.csv)
+                bare = self.source.format == "csv" and kind_of_file(self.path.name) == kind
+                pick = detect_vector(kind, fields, units=self.source.units, bare=bare)
             if pick is None:
                 if kind in require:
                     raise ValueError(
@@ -358,10 +372,14 @@ class ImuFile:
         cols = self._head()
         if not len(next(iter(cols.values()))):
             return
+        # the checks below read magnitudes: a broken row among these first ones is named by line and column
+        for kind in ("gyro", "acc", "mag"):
+            if kind in self.picks:
+                self._check_magnitude(kind, _assemble(cols, self.picks[kind]), 0, self.period)
         if "mag" in self.picks and self.spec.mag_unit is None and self.picks["mag"].unit_hint is None:
             raw = _assemble(cols, self.picks["mag"])
             raw = raw[np.isfinite(raw).all(axis=1)]
-            norms = np.linalg.norm(raw, axis=1)
+            norms = row_norms(raw)
             if norms.size and 0.8 <= np.median(norms) <= 1.25 and self.units["mag"] == "uT":
                 self.units["mag"] = "normalised"
                 self.notes.append(f"mag normalised (|m| median {np.median(norms):.3g}): used for its direction")
@@ -438,8 +456,10 @@ class ImuFile:
             out = ImuChunk(row, t, gyro=None)
             for kind, pick in self.picks.items():
                 raw = _assemble(cols, pick)
-                if self.spec.unit_check and kind in _KINDS:
-                    self._check_units(kind, raw, row, check.period)
+                if kind in _KINDS:
+                    self._check_magnitude(kind, raw, row, check.period)  # before any product can overflow
+                    if self.spec.unit_check:
+                        self._check_units(kind, raw, row, check.period)
                 setattr(out, kind, raw * scale(kind, self.units[kind]))
             for name, pick in self.extra.items():
                 values = _assemble(cols, pick)
@@ -480,6 +500,24 @@ class ImuFile:
             f"{self.path}: {what} at {unit} {shown}{more}, first in column {first!r}; remove or fill "
             "those rows (their readings are unknown, and every later attitude depends on them)"
         )
+
+    def _check_magnitude(self, kind: str, raw: np.ndarray, row: int, period: float | None) -> None:
+        """A ValueError at the first reading past :data:`~strapdown.io.units.LIMITS`: file, line, column, value.
+
+        Not switched off by ``unit_check``: such a reading is a broken row in any unit, and the estimators would
+        only lose the attitude on it later, with no line to look at.
+        """
+        if kind == "gyro" and self.increments:
+            if not period:
+                return  # no rate to turn increments into rates yet (a first chunk of one row)
+            hit = check_magnitude(kind, raw, self.units[kind], rate_hz=1.0 / period)
+        else:
+            hit = check_magnitude(kind, raw, self.units[kind])
+        if hit:
+            i, j, problem = hit
+            pick = self.picks[kind]
+            column = pick.fields[j] if len(pick.fields) > 1 else f"{pick.fields[0]}[{j}]"
+            raise ValueError(f"{self.path}: {self.where(row + i)}, column {column!r}: {problem}")
 
     def _check_units(self, kind: str, raw: np.ndarray, row: int, period: float | None) -> None:
         rate = 1.0 / period if (self.increments and kind == "gyro" and period) else None

@@ -35,6 +35,7 @@ from .tables import (
     OutputSpec,
     attitude_columns,
     column_names,
+    flag_bits,
     from_values,
     to_values,
 )
@@ -327,7 +328,10 @@ def integrate_file(
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
-        report.notes.append(axes.describe())
+        if frame is None:
+            report.notes.append(f"attitude of the {axes.body} axes relative to themselves at t = 0 (turned by q0)")
+        else:
+            report.notes.append(axes.describe())
         report.notes.extend(run.notes)
         report.outputs = run.outputs
         return report
@@ -347,9 +351,8 @@ def integrate_axes(imu, frame, body, out_body, rate_frame: str, out: OutputSpec)
 
 
 def _turned(chunk, axes):
-    if axes.matrix is not None:
-        chunk = _slice(chunk, 0, len(chunk))
-        chunk.gyro = axes.rotate(chunk.gyro)
+    if axes.matrix is not None:  # a new chunk: the one read stays as read, for messages naming its columns
+        chunk = replace(chunk, gyro=axes.rotate(chunk.gyro))
     return chunk
 
 
@@ -394,6 +397,8 @@ def estimate_file(
     body: str | None = None,
     out_body: str | None = None,
     on_gap: str = "error",
+    calibration=None,
+    declination: float | None = None,
 ) -> Report:
     """Run an estimator of :data:`strapdown.evaluate.ESTIMATORS` over a file and write its attitudes, streaming.
 
@@ -434,6 +439,13 @@ def estimate_file(
         A time step over ``columns.max_gap`` sample periods: a ValueError (default); a new output file per
         segment (``<stem>-2.csv`` ...) with the estimator started afresh; or one file with the estimator
         started afresh after each gap and a ``segment`` column.
+    calibration : mapping of str to strapdown.calibrate.Calibration, optional
+        Calibrations by sensor (``"gyroscope"``, ``"accelerometer"``, ``"magnetometer"``, as
+        :func:`strapdown.calibrate.load` returns them), applied to the readings in their own axes before
+        anything else.
+    declination : float, optional
+        Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
+        The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
 
     Returns
     -------
@@ -495,7 +507,12 @@ def estimate_file(
             )
         axes = resolve_axes(imu, frame, body, out_body)
         use_mag = "mag" in imu.picks
+        from ..calibrate import _apply, to_true_north  # calibration and true north (strapdown.calibrate)
+
+        cal = _apply.by_sensor(calibration)
+        _apply.check_axes(cal, axes.sensor, axes.declared)
         meta = _metadata("estimate", estimator=estimator, mode="9D" if use_mag else "6D")
+        meta.update(_apply.heading_metadata(use_mag, declination, cal))
         meta.update(axes.metadata())
         meta.update(output_metadata(out, bias=cls.estimates_bias, flags=cls.reports_flags))
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
@@ -509,9 +526,10 @@ def estimate_file(
                     run.segment_of_estimator = seg
                 timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
                 extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
-                mag_in = axes.rotate(chunk.mag) if use_mag else None
+                gyro, acc, mag = _apply.readings(cal, chunk.gyro, chunk.acc, chunk.mag if use_mag else None)
+                mag_in = axes.rotate(mag) if use_mag else None
                 try:
-                    e = est.update(axes.rotate(chunk.gyro), axes.rotate(chunk.acc), mag_in, **timing, **extra)
+                    e = est.update(axes.rotate(gyro), axes.rotate(acc), mag_in, **timing, **extra)
                 except ValueError as exc:  # the estimator's own words name its arrays, not the file
                     k = getattr(exc, "sample", None)  # strapdown._validate.SampleError: one sample of the chunk
                     where = _rows(imu, chunk) if k is None else imu.where(chunk.row + k)
@@ -520,19 +538,22 @@ def estimate_file(
                 if lost.size:
                     i = int(lost[0])
                     raise ValueError(
-                        f"{path}: the {estimator} estimator lost the attitude at {imu.where(chunk.row + i)} (gyro "
-                        f"{_triad(chunk.gyro[i])} rad/s, acc {_triad(chunk.acc, i)} m/s²): readings that large are "
-                        "not plausible; check that row and the units"
+                        f"{path}: the {estimator} estimator lost the attitude at {_culprit(imu, chunk, i)}: a "
+                        "reading that large is not plausible; check that row and the units"
                     )
                 at_limit = None
                 if limit and e.bias is not None:
-                    # the estimators clip each axis at bias_limit: a bias there says the limit, not the gyro
+                    # Mahony-type filters clip each axis at bias_limit (a bias there says the limit, not the gyro);
+                    # the AttitudeEstimator and TiltEstimator treat it as a prior's bound and set the flag bit
                     at_limit = (np.abs(e.bias) >= limit * (1.0 - 1e-9)).any(axis=1)
+                    if e.flags is not None:
+                        at_limit |= (np.asarray(e.flags) & flag_bits()["bias_at_limit"]) != 0
                     if at_limit.any() and not warned:
                         warned = True
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
-                run.write(seg, attitude_columns(run.t(chunk), e.q, out, e.bias, e.flags, at_limit))
+                q = e.q if declination is None else to_true_north(e.q, declination, frame=axes.frame)
+                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit))
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
         report.notes.extend(run.notes)
@@ -546,9 +567,10 @@ ON_GAP = ("error", "split", "restart")
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:
     axis = "xyz"[int(np.argmax(np.abs(bias)))]
     return (
-        f"warning: the gyro bias estimate reached its limit bias_limit = {np.degrees(limit):.3g} deg/s on the "
-        f"{axis} axis at t = {t:.6g} s ({where}), and is clipped there (the bias_at_limit column says where): the "
-        "gyro's bias may be larger (raise -p bias_limit_deg_s=...), or its readings in another unit (--gyro-unit)"
+        f"warning: the gyro bias estimate reached bias_limit = {np.degrees(limit):.3g} deg/s (clipped there, or past "
+        f"the bound of the estimator's prior) on the {axis} axis at "
+        f"t = {t:.6g} s ({where}); the bias_at_limit column says where.  A bias that large is beyond what the "
+        "estimator assumes of the sensor: check the gyro's unit (--gyro-unit), or raise -p bias_limit_deg_s=..."
     )
 
 
@@ -578,7 +600,7 @@ class _Segments:
             if self.splitter is not None and self.splitter.gaps:
                 listing = "; ".join(f"{a:.6g} s -> {b:.6g} s" for a, b in self.splitter.gaps[:5])
                 more = f" and {len(self.splitter.gaps) - 5} more" if len(self.splitter.gaps) > 5 else ""
-                how = "a file per segment" if self.on_gap == "split" else "started afresh after each"
+                how = "a file per segment" if self.on_gap == "split" else "started afresh after each gap"
                 self.notes.append(f"{len(self.splitter.gaps)} gap(s) ({how}): {listing}{more}")
         return self._stack.__exit__(*exc)
 
@@ -627,19 +649,48 @@ class _Segments:
         self.rows += len(columns["t"])
 
 
-def _triad(v, i=None) -> str:
-    if v is None:
-        return "none"
-    v = v if i is None else v[i]
-    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+#: Readings of a common size in SI units, to find the one most out of scale: rad/s (or rad), m/s², µT.
+_TYPICAL = {"gyro": 1.0, "acc": 9.81, "mag": 50.0}
+_SI = {"gyro": "rad/s", "acc": "m/s²", "mag": "µT"}
+
+
+def _culprit(imu, chunk, row: int | None = None) -> str:
+    """The reading of a chunk (or of one of its rows) most out of scale, by line and column, for messages.
+
+    A non-finite reading comes first, then the largest relative to its quantity's usual size.  The unit check
+    looks at a percentile of the first rows, so one absurd value further on gets through it and fails in the
+    integrator or the filter, whose words name their own arrays: this names the file's line and column instead.
+    """
+    best = None
+    for kind, typical in _TYPICAL.items():
+        v = getattr(chunk, kind, None)
+        if v is None or kind not in imu.picks or not len(v):
+            continue
+        part = v if row is None else v[row : row + 1]
+        size = np.abs(part) / typical  # inf stays inf
+        # NaN: no sample of a slower sensor on the gyro's rows (imu.sparse), otherwise a reading gone wrong
+        size[np.isnan(size)] = 0.0 if kind in (getattr(imu, "sparse", None) or ()) else np.inf
+        i, j = np.unravel_index(int(np.argmax(size)), size.shape)
+        if best is None or size[i, j] > best[0]:
+            best = (size[i, j], kind, i + (row or 0), j)
+    if best is None:
+        return "no reading"
+    _, kind, i, j = best
+    fields = imu.picks[kind].fields
+    column = fields[j] if len(fields) == 3 else f"{fields[0]}[{j}]"
+    unit = "rad" if kind == "gyro" and getattr(imu, "increments", False) else _SI[kind]
+    return f"{imu.where(chunk.row + i)}, column {column} = {getattr(chunk, kind)[i, j]:.4g} {unit}"
 
 
 def _rows(imu, chunk) -> str:
-    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file)."""
+    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file), and its worst reading."""
     if chunk is None:
         return "its first rows"
     first, last = imu.where(chunk.row), imu.where(chunk.row + len(chunk) - 1)
-    return f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the readings there are not plausible)"
+    return (
+        f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the reading most out of scale there: "
+        f"{_culprit(imu, chunk)})"
+    )
 
 
 def _slice(chunk, a: int, b: int):
@@ -741,9 +792,46 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
             raise RowError(int(big[0]), f"an angle beyond ±{limit:.3g} {unit}: no digits are left below a turn")
     out = np.full((values.shape[0], REPRESENTATIONS[target]), np.nan)
     if ok.any():
-        q = from_values(source, values[ok], angles_in)
-        out[ok] = to_values(target, q, angles_out)
+        rows = values[ok]
+        if source == "quat":
+            # a quaternion's attitude does not depend on its scale: bring the largest component to 1 first, so
+            # that 1e300 or 5e-324 components neither overflow nor underflow the norm (exact: a division)
+            rows = rows / np.abs(rows).max(axis=1, keepdims=True)
+        try:
+            converted = to_values(target, from_values(source, rows, angles_in), angles_out)
+        except ValueError:
+            row, problem = _first_refused(rows, source, target, angles_in, angles_out)
+            raise RowError(int(np.flatnonzero(ok)[row]), problem) from None
+        bad = np.flatnonzero(~np.isfinite(converted).all(axis=1))
+        if bad.size:  # a Gibbs vector of a half turn, say: no finite number says it
+            row = int(np.flatnonzero(ok)[bad[0]])
+            raise RowError(row, f"an attitude the {target} representation cannot hold ({converted[bad[0]].tolist()})")
+        out[ok] = converted
     return out
+
+
+def _first_refused(rows, source, target, angles_in, angles_out) -> tuple[int, str]:
+    """The first row the conversion refuses, found by halving (only after a failure), and the reason.
+
+    The library names its own arrays and their indices ("c[0] is not a rotation matrix"): the reason is given
+    without that name, for the caller to put the file's line in front.
+    """
+    lo, hi = 0, len(rows)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        try:
+            to_values(target, from_values(source, rows[lo:mid], angles_in), angles_out)
+        except ValueError:
+            hi = mid
+        else:
+            lo = mid
+    try:
+        to_values(target, from_values(source, rows[lo:hi], angles_in), angles_out)
+    except ValueError as exc:
+        reason = re.sub(r"^[A-Za-z_]\w*(\[0\])? (is )?", "", str(exc))
+    else:  # pragma: no cover - the rows fail together but no row alone
+        reason = "values the conversion refuses"
+    return lo, f"values the {source} to {target} conversion refuses ({reason})"
 
 
 class RowError(ValueError):

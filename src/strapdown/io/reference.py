@@ -86,7 +86,13 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
     Returns
     -------
     Reference
-        Times, quaternions (normalised), frames.
+        Times (s from the first sample), quaternions (normalised), frames.
+
+    Raises
+    ------
+    ValueError
+        When a table has no quaternion or no time column, a quaternion row is not of unit norm, or the time
+        column's unit (stated, or inferred from the median step for integers) makes no plausible sample period.
 
     Examples
     --------
@@ -109,19 +115,36 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
         t, q, origin = read_attitude(path, topic)
         return Reference(t, _unit(q, path, "vehicle_attitude"), "NED", "FRD", origin, "vehicle_attitude")
     from .columns import detect_time
+    from .timebase import origin_of
+    from .units import scale
 
     with open_source(path, fmt) as src:
         names = next((n for n in _QUATS if all(c in src.fields for c in n)), None)
         if names is None:
             raise ValueError(f"{path} has no attitude (qw_true.. or qw,qx,qy,qz); it has: {', '.join(src.fields)}")
         time = detect_time(src.fields)
-        wanted = [*names, *(time.fields if time else ())]
-        parts = [cols for _, cols in src.chunks(wanted, 1 << 20)]
-    cols = {n: np.concatenate([p[n] for p in parts]) for n in wanted}
+        if time is None:  # row numbers taken as seconds would be a silent wrong answer
+            raise ValueError(
+                f"{path} has attitudes ({','.join(names)}) but no time column (t, time, timestamp_ns, ...); "
+                f"it has: {', '.join(src.fields)}"
+            )
+        name = time.fields[0]
+        # integers count from the first value in integer arithmetic (epoch ns are past float64's 2**53)
+        relative = (name,) if name in src.integers and not src.is_timestamp(name) else ()
+        parts = [cols for _, cols in src.chunks([*names, name], 1 << 20, relative=relative)]
+        cols = {n: np.concatenate([p[n] for p in parts]) for n in (*names, name)}
+        unit = _time_unit(src, time, cols[name], bool(relative), path)
+        origin_unit = unit
+        if src.is_timestamp(name):  # date-times: seconds from the first one, which is kept as epoch ns
+            stamp = src.origins.get(name)
+            first = None if stamp is None else int(np.datetime64(stamp, "ns").astype(np.int64))
+            origin_unit = "ns"
+        else:
+            first = src.origins.get(name) if relative else (cols[name][0] if cols[name].size else None)
+        origin = getattr(src, "time_origin", None) or (None if first is None else origin_of(first, origin_unit))
     q = np.column_stack([cols[n] for n in names])
-    t = cols[time.fields[0]] if time else np.arange(q.shape[0], dtype=np.float64)
+    t = cols[name] * scale("time", unit)
     meta = read_metadata(path, fmt) if fmt in ("csv", "parquet", "hdf5", "mat") else {}
-    origin = None
     if "time_origin" in meta:
         value = meta["time_origin"]
         origin = TimeOrigin(
@@ -133,6 +156,31 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
     return Reference(
         t - t[0] if t.size else t, _unit(q, path, ",".join(names)), frame, meta.get("body"), origin, ",".join(names)
     )
+
+
+def _time_unit(src, time, values: np.ndarray, integer: bool, path: Path) -> str:
+    """The unit of a reference's time column, told and checked as :class:`~strapdown.io.ImuFile` does it.
+
+    A decoded log's seconds, else the unit the column's name or a unit row states, else (integers) the unit
+    :func:`~strapdown.io.timebase.infer_time_unit` finds from the median step; every unit is then checked to make
+    a plausible sample period, so epoch nanoseconds are never taken as seconds.
+    """
+    from .timebase import check_period, infer_time_unit
+    from .units import parse_unit
+
+    name = time.fields[0]
+    stated = src.units.get(name)
+    unit = "s" if src.time_in_seconds or src.is_timestamp(name) else time.unit_hint
+    if unit is None and stated:
+        unit = parse_unit("time", stated, strict=False)
+    steps = np.diff(values[np.isfinite(values)])
+    step = float(np.median(steps)) if steps.size else None
+    if unit is None:
+        first = float(src.origins.get(name, 0)) if integer else 0.0
+        unit = infer_time_unit(step, first, name, str(path))[0] if integer and step else "s"
+    if step:
+        check_period(step, unit, name, str(path))
+    return unit
 
 
 def _unit(q: np.ndarray, path: Path, what: str) -> np.ndarray:

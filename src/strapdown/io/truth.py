@@ -15,9 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .units import UNITS
+
 __all__ = ["AlignedTruth", "align_truth", "write_aligned"]
 
-_UNIT_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+_UNIT_SECONDS = UNITS["time"]  # s per unit
 
 
 @dataclass
@@ -99,6 +101,7 @@ def align_truth(estimate, truth, *, truth_frame: str | None = None, truth_body: 
     frame = (truth_frame or ref.frame or truth_meta.get("reference") or "").upper() or None
     body = (truth_body or ref.body or "").upper() or None
     notes = []
+    reexpressed = False
     if est_frame is None and est_meta.get("frame", "").startswith("inertial"):
         notes.append("an integration's own reference: the frames are not checked")
     else:
@@ -122,9 +125,12 @@ def align_truth(estimate, truth, *, truth_frame: str | None = None, truth_body: 
             notes.append(f"truth re-expressed from {frame}/{body} to {est_frame}/{est_body}")
             q = change_frame(ref.q, ref_from=frame, ref_to=est_frame, body_from=body, body_to=est_body)
             ref.q = q
+            reexpressed = True
     # the same instant for t = 0: shift the truth when both files store absolute origins of one kind
     shift = 0.0
-    a, b = _origin_seconds(est_meta), _origin_seconds(truth_meta)
+    # the truth's origin from its metadata, else from its own time column (epoch ns of a motion-capture table)
+    a = _origin_seconds(est_meta)
+    b = _origin_seconds(truth_meta) or _origin_seconds(ref.time_origin.metadata() if ref.time_origin else {})
     if a and b and a[0] == b[0]:
         shift = b[1] - a[1]
     rt = ref.t + shift
@@ -142,7 +148,8 @@ def align_truth(estimate, truth, *, truth_frame: str | None = None, truth_body: 
         q = np.full((t.size, 4), np.nan)
         q[inside] = ref.at(t[inside]) if shift == 0.0 else _shifted(ref, shift).at(t[inside])
         notes.append(f"truth ({ref.source}) interpolated onto the estimate's {int(inside.sum())} rows")
-    return AlignedTruth(t, q, inside, "; ".join(notes), bool(notes) and not notes[0].startswith("an integration"))
+    changed = reexpressed or not same_rows
+    return AlignedTruth(t, q, inside, "; ".join(notes), changed)
 
 
 def _shifted(ref, shift: float):

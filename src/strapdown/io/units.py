@@ -12,7 +12,18 @@ import math
 
 import numpy as np
 
-__all__ = ["GRAVITY", "UNITS", "check_gravity_sign", "check_gyro_at_rest", "check_plausible", "parse_unit", "scale"]
+__all__ = [
+    "GRAVITY",
+    "LIMITS",
+    "UNITS",
+    "check_gravity_sign",
+    "check_gyro_at_rest",
+    "check_magnitude",
+    "check_plausible",
+    "parse_unit",
+    "row_norms",
+    "scale",
+]
 
 GRAVITY = 9.80665
 
@@ -132,12 +143,153 @@ _EARTH_FIELD = {
 }
 
 
+#: Magnitudes (SI; µT for the magnetometer) that no sensor reads, in any unit: a reading past them is a broken
+#: row, not a unit to declare, and no estimator can use it (``--no-unit-check`` does not switch this check off).
+LIMITS = {
+    # 1e4 rad/s is 1.6 kHz of spin (95,000 rpm): six times a spinning artillery shell (~250 rev/s), the fastest
+    # body that carries an IMU, and twenty times the widest gyro ranges (tens of thousands of °/s, ~500 rad/s)
+    "gyro": 1e4,
+    # 1e7 m/s² is a million g: five times the largest rated shock accelerometers (200,000 g), ~1e5 times the
+    # ±16 g of consumer parts; raw 16-bit counts declared as m/s² (<= 32768) stay below it for the unit check
+    "acc": 1e7,
+    # 1e7 µT is 10 T: past an MRI scanner (1.5-7 T) and ten times a neodymium magnet's surface field (~1 T);
+    # the Earth's field in nT declared as µT (~5e4) and raw counts stay below it for the unit check
+    "mag": 1e7,
+}
+_SI_UNIT = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}
+_NAME = {"gyro": "gyro", "acc": "accelerometer", "mag": "magnetometer"}
+_WHY = {"gyro": "1.6 kHz of spin", "acc": "a million g", "mag": "10 T, past an MRI scanner"}
+
+
+def row_norms(v) -> np.ndarray:
+    """Euclidean norms of the rows of ``v``, without overflow or underflow on the way.
+
+    Each row is divided by its largest ``|component|`` before squaring, so ``[1e300, 0, 0]`` has norm 1e300 (the
+    plain sum of squares overflows to inf past 1e154) and ``[1e-300, 0, 0]`` norm 1e-300, not 0.  Rows with NaN
+    give NaN, rows with inf give inf, and a norm past the largest float is inf; none of them warns.
+
+    Parameters
+    ----------
+    v : array_like, shape (..., k)
+        Vectors along the last axis.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        Their norms.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.units import row_norms
+    >>> row_norms(np.array([[3e300, 4e300, 0.0], [0.0, 0.0, 0.0]]))
+    array([5.e+300, 0.e+000])
+    """
+    v = np.asarray(v, dtype=np.float64)
+    m = np.abs(v).max(axis=-1)
+    s = np.where((m > 0) & np.isfinite(m), m, 1.0)  # 0, NaN and inf rows are divided by 1: no 0/0 or inf/inf
+    u = v / s[..., None]
+    with np.errstate(over="ignore"):  # only a norm past 1.8e308 can overflow here, and inf is its value
+        return s * np.sqrt(np.einsum("...i,...i->...", u, u))
+
+
+def check_magnitude(
+    kind: str, values: np.ndarray, unit: str, *, rate_hz: float | None = None, converted: bool = False
+) -> tuple[int, int, str] | None:
+    """The first row whose magnitude no sensor reads (:data:`LIMITS`), its largest component and what is wrong.
+
+    One pass of ``abs`` and ``max`` over the rows (cheap enough for every chunk of a file); only rows past the
+    limit over √3 get an exact, overflow-free norm.  Rows with NaN or infinite values are left to the finite
+    check.  The message says the value in the declared unit and in SI, and whether another unit of ``kind``
+    would make it plausible (deg/s read as rad/s) or none does (a broken row).
+
+    Parameters
+    ----------
+    kind : {"gyro", "acc", "mag"}
+        The quantity.
+    values : numpy.ndarray, shape (N, 3)
+        The readings: as in the file (in ``unit``), or in SI when ``converted``.
+    unit : str
+        The declared unit (canonical name); for gyro increments "rad/s" means rad and "deg/s" deg.
+    rate_hz : float, optional
+        Sample rate, for gyro increments: they are judged as the rates increment × rate.
+    converted : bool
+        ``values`` are in SI already (converted with ``unit``).
+
+    Returns
+    -------
+    (int, int, str) or None
+        Row and component (0-based) of the first reading past the limit, and the message, without a location.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.units import check_magnitude
+    >>> gyro = np.zeros((5, 3))
+    >>> check_magnitude("gyro", gyro, "rad/s") is None
+    True
+    >>> gyro[3, 1] = 1e300
+    >>> row, component, message = check_magnitude("gyro", gyro, "rad/s")
+    >>> row, component, message[:55]
+    (3, 1, 'the gyro reads 1e+300 rad/s (|gyro| 1e+300 rad/s), beyo')
+    """
+    values = np.asarray(values, dtype=np.float64)
+    if values.size == 0:
+        return None
+    base = 1.0 if converted else scale(kind, unit)  # SI per value
+    per = rate_hz or 1.0
+    # the SI magnitude limit in the units of ``values``: no product of a huge value is ever formed
+    limit = LIMITS[kind] / (base * per)
+    top = np.abs(values).max(axis=1)
+    near = np.flatnonzero(np.isfinite(top) & (top > limit / math.sqrt(3.0)))
+    if near.size == 0:
+        return None
+    norms = row_norms(values[near])
+    over = np.flatnonzero(norms > limit)
+    if over.size == 0:
+        return None
+    i = int(near[over[0]])
+    j = int(np.argmax(np.abs(values[i])))
+    norm = float(norms[over[0]])  # Python floats: a product past 1.8e308 is inf, without a warning
+    value = float(values[i, j]) / (scale(kind, unit) if converted else 1.0)
+    si = _SI_UNIT[kind]
+    if rate_hz:
+        own = {"rad/s": "rad", "deg/s": "deg"}.get(unit, unit)
+        what = f"the gyro increment reads {value:.4g} {own}, at {rate_hz:g} Hz a rate of {norm * base * per:.4g} {si}"
+    else:
+        what = f"the {_NAME[kind]} reads {value:.4g} {unit} (|{kind}| {norm * base:.4g} {si})"
+    what += f", beyond {LIMITS[kind]:.0e} {si} ({_WHY[kind]})"
+    # another unit of the quantity would take the file's numbers to a plausible size: smaller units only
+    declared = scale(kind, unit)
+    as_unit = {u: norm * base / declared * f * per for u, f in UNITS[kind].items() if f < declared}
+    fits = [u for u, x in as_unit.items() if x <= LIMITS[kind]]
+    if fits:
+        advice = (
+            f"as {fits[0]} it would be {as_unit[fits[0]]:.3g} {si}.  Pass --{kind}-unit {fits[0]} if that is the "
+            "unit, else fix or remove that row"
+        )
+    else:
+        advice = (
+            f"not plausible in any unit ({', '.join(UNITS[kind])}).  Fix or remove that row (--no-unit-check does "
+            "not skip this: no estimator can use such a reading)"
+        )
+    return i, j, f"{what}: {advice}"
+
+
+def _impossible(hit: tuple[int, int, str], what: str) -> str:
+    """A :func:`check_magnitude` finding as a check's message, located in the array given to the check."""
+    i, j, message = hit
+    return f"{message} (row {i}, component {'xyz'[j] if j < 3 else j} of {what})"
+
+
 def check_plausible(kind: str, raw: np.ndarray, unit: str, *, rate_hz: float | None = None) -> str | None:
     """A message when the magnitudes of ``raw`` (the file's values) contradict the declared ``unit``, else None.
 
     The gyro check flags rates beyond any MEMS gyro's range (±2000°/s) declared as rad/s; for increments
     give ``rate_hz`` and the increments are turned into rates.  The accelerometer and magnetometer checks
     compare the median magnitude with gravity and the Earth's field (15-80 µT) and name the unit it fits.
+    A reading past :data:`LIMITS` is named first (row and component, :func:`check_magnitude`): no unit
+    explains it, so it is no hint of one.
 
     Parameters
     ----------
@@ -166,8 +318,12 @@ def check_plausible(kind: str, raw: np.ndarray, unit: str, *, rate_hz: float | N
     """
     if raw.shape[0] == 0:
         return None
+    # a reading no unit explains is no hint of a unit (1e300 is not deg/s either): say so, wherever it is
+    hit = check_magnitude(kind, raw, unit, rate_hz=rate_hz)
+    if hit:
+        return _impossible(hit, "the values checked")
     sub = raw[:: max(1, raw.shape[0] // 4096)]  # a few thousand rows tell the unit; the whole chunk costs more
-    mags = np.sqrt(np.einsum("ij,ij->i", sub, sub))
+    mags = row_norms(sub)
     if kind == "gyro":
         if unit != "rad/s":
             return None
@@ -275,7 +431,7 @@ def check_gyro_at_rest(gyro, acc, seconds: float, unit: str) -> str | None:
     rate of more than 0.2 rad/s about an axis perpendicular to gravity would turn that direction by 11° a
     second; if the accelerometer's direction stays within 3° over the window instead, the gyro's numbers are not
     rates in ``unit`` (deg/s values declared as rad/s read a 0.5°/s bias as 29°/s), or the two sensors' axes
-    differ.
+    differ.  A gyro reading past :data:`LIMITS` is named instead (row and component, :func:`check_magnitude`).
 
     Parameters
     ----------
@@ -304,15 +460,24 @@ def check_gyro_at_rest(gyro, acc, seconds: float, unit: str) -> str | None:
     n = acc.shape[0]
     if n < 20 or seconds < 1.0:
         return None
+    # a rate no unit explains is not "deg/s declared as rad/s": name it (and keep it out of the sums below)
+    hit = check_magnitude("gyro", gyro, unit, converted=True)
+    if hit:
+        return _impossible(hit, "the gyro rows checked")
+    # the accelerometer only by direction, scaled by its largest reading: no sum or square can overflow
+    size = float(np.abs(acc).max())
+    if not 0.0 < size < math.inf:
+        return None
     k = max(1, n // 10)
-    blocks = acc[: n - n % k].reshape(-1, k, 3).mean(axis=1)  # means of k rows: the accelerometer's noise out
+    blocks = (acc / size)[: n - n % k].reshape(-1, k, 3).mean(axis=1)  # means of k rows: the noise out
+    lengths = row_norms(blocks)
     ref = blocks[0]
-    g = float(np.linalg.norm(ref))
+    g = float(lengths[0]) * size
     if not 0.8 * GRAVITY < g < 1.2 * GRAVITY:
         return None
-    cos = blocks @ ref / (np.linalg.norm(blocks, axis=1) * g)
+    up = ref / lengths[0]
+    cos = blocks @ up / np.where(lengths > 0, lengths, 1.0)  # a zero block: cos 0, a drift of 90°
     drift = float(np.degrees(np.arccos(np.clip(cos.min(), -1.0, 1.0))))
-    up = ref / g
     w = gyro.mean(axis=0)
     across = float(np.linalg.norm(w - (w @ up) * up))
     if drift > 3.0 or across < _TILT_RATE_AT_REST:

@@ -29,7 +29,7 @@ __all__ = ["TableWriter", "csv_comments", "table_writer", "write_table"]
 class TableWriter:
     """Appends chunks of named columns to one file; the first chunk fixes the columns.  Use :func:`table_writer`."""
 
-    def __init__(self, path: Path, format: str, metadata: Mapping[str, str] | None = None):
+    def __init__(self, path: Path, format: str, metadata: Mapping[str, str] | None = None, background: bool = True):
         self.path = Path(path)
         self.target = self.path  # the file named in messages (table_writer writes to a temporary beside it)
         self.format = format
@@ -38,6 +38,14 @@ class TableWriter:
         self.rows = 0
         self._sink = None
         self._parts: dict[str, list] = {}
+        # Parquet: chunks are gathered into row groups of at least ROW_GROUP_ROWS (a one-row first chunk does
+        # not make a one-row group) and, with `background`, encoded and written by a thread of their own while
+        # the caller computes the next chunk (pyarrow releases the GIL).  write() keeps a contiguous copy of
+        # each column (which the Arrow conversion needs anyway for strided ones), so the caller may reuse its
+        # arrays at once.
+        self._group: list = []
+        self._group_rows = 0
+        self._behind = _Behind() if background and format == "parquet" else None
 
     def write(self, columns: Mapping[str, np.ndarray]) -> None:
         """Append rows: every chunk has the same column names in the same order, each array of one length."""
@@ -91,7 +99,21 @@ class TableWriter:
         pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
 
     def _write_parquet(self, columns) -> None:
-        self._sink.write_batch(_batch(columns))
+        if self._behind is not None:
+            columns = {n: np.array(v, order="C", copy=True) for n, v in columns.items()}
+        self._group.append(columns)
+        self._group_rows += len(next(iter(columns.values())))
+        if self._group_rows >= ROW_GROUP_ROWS:
+            self._flush_group()
+
+    def _flush_group(self) -> None:
+        if not self._group:
+            return
+        group, self._group, self._group_rows = self._group, [], 0
+        if self._behind is None:
+            _write_group(self._sink, group)
+        else:  # the Arrow conversion (copies of strided columns) goes to the thread too
+            self._behind.submit(_write_group, self._sink, group)
 
     def _write_hdf5(self, columns) -> None:
         for name, v in columns.items():
@@ -112,6 +134,9 @@ class TableWriter:
         """
         if self.names is None:
             raise ValueError(f"nothing was written to {self.target}: no columns were given")
+        if self.format == "parquet" and self._sink is not None:
+            self._flush_group()  # the last row group
+            self._stop_background(errors=True)  # raises the first error of a background write
         if self.format == "mat":
             sio = need("scipy.io", "writing MATLAB files")
             data = {n: np.concatenate(self._parts[n]) for n in self.names}
@@ -135,6 +160,50 @@ class TableWriter:
             self._raw.close()
             self._raw.check()
         self._sink = None
+
+    def _stop_background(self, errors: bool = False) -> None:
+        """Wait for the background writes; raise the first error of one with `errors` (after an error, not)."""
+        if self._behind is not None:
+            self._behind.drain(errors=errors)
+
+
+#: Rows gathered into one Parquet row group: 2^18 rows of 8 float64 columns make 2 MiB column chunks, large
+#: enough for sequential disk reads and small enough to keep the writer's memory flat.
+ROW_GROUP_ROWS = 1 << 18
+
+
+def _write_group(sink, group: list) -> None:
+    """Chunks of columns as one Parquet row group."""
+    pa = need("pyarrow", "writing tables")
+    table = pa.Table.from_batches([_batch(columns) for columns in group])
+    sink.write_table(table, row_group_size=table.num_rows)
+
+
+class _Behind:
+    """One thread that runs a file's writes in order, at most `depth` calls behind the caller."""
+
+    def __init__(self, depth: int = 2):
+        from concurrent.futures import ThreadPoolExecutor
+
+        self._pool = ThreadPoolExecutor(1, thread_name_prefix="strapdown-writer")
+        self._pending: list = []
+        self.depth = depth
+
+    def submit(self, fn, *args) -> None:
+        while len(self._pending) >= self.depth:
+            self._pending.pop(0).result()  # bounded memory; a failed write raises here, at the next chunk
+        self._pending.append(self._pool.submit(fn, *args))
+
+    def drain(self, errors: bool = True) -> None:
+        try:
+            for fut in self._pending:
+                if errors:
+                    fut.result()
+                else:
+                    fut.exception()
+        finally:
+            self._pending = []
+            self._pool.shutdown(wait=True)
 
 
 _QUAT = ("qw", "qx", "qy", "qz")
@@ -165,10 +234,17 @@ def csv_comments(metadata: Mapping[str, str] | None) -> str:
 
 
 def _number(text: str):
+    """A metadata value as a MATLAB number when float64 holds it exactly, else as text.
+
+    An epoch in nanoseconds (1.7e18) is past 2**53: as a double it would move by up to 128 ns, so it stays text.
+    """
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         return text
+    if text.strip().lstrip("+-").isdigit() and int(text) != int(value):
+        return text
+    return value
 
 
 def _batch(columns: Mapping[str, np.ndarray]):
@@ -177,7 +253,9 @@ def _batch(columns: Mapping[str, np.ndarray]):
 
 
 @contextmanager
-def table_writer(path, format: str | None = None, metadata: Mapping[str, str] | None = None) -> Iterator[TableWriter]:
+def table_writer(
+    path, format: str | None = None, metadata: Mapping[str, str] | None = None, *, background: bool = True
+) -> Iterator[TableWriter]:
     """A :class:`TableWriter` on a temporary file that replaces ``path`` when the block succeeds.
 
     Parameters
@@ -188,6 +266,9 @@ def table_writer(path, format: str | None = None, metadata: Mapping[str, str] | 
         Overrides the suffix of ``path``.
     metadata : mapping of str to str, optional
         Stored with the table: Parquet schema metadata, HDF5 root attributes, MATLAB variables.
+    background : bool
+        Parquet: encode and write in a background thread, overlapping the caller's next chunk (default).  Each
+        ``write`` copies its columns first, so the caller may change its arrays after the call.
 
     Yields
     ------
@@ -211,12 +292,13 @@ def table_writer(path, format: str | None = None, metadata: Mapping[str, str] | 
     """
     fmt = format_of(path, format)
     with atomic_path(path) as tmp:
-        writer = TableWriter(tmp, fmt, metadata)
+        writer = TableWriter(tmp, fmt, metadata, background)
         writer.target = Path(path)
         try:
             yield writer
             writer.close()
         finally:
+            writer._stop_background()  # after an error in the block: no background write may still use the file
             if writer._sink is not None:  # an error inside the block: release the file before it is deleted
                 writer._sink.close()
             if getattr(writer, "_raw", None) is not None:

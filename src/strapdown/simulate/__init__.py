@@ -3,7 +3,8 @@
 * :mod:`~strapdown.simulate.trajectories`: constant rotation, coning, random smooth motion, rocking platform;
 * :mod:`~strapdown.simulate.aerobatics`: aerobatic flights chained from figures;
 * :mod:`~strapdown.simulate.imu`: datasheet-style sensor error models;
-* :mod:`~strapdown.simulate.sampling`: sampling a trajectory into IMU readings.
+* :mod:`~strapdown.simulate.sampling`: sampling a trajectory into IMU readings;
+* :mod:`~strapdown.simulate.recorded`: IMU readings for a recorded motion (motion capture) through the C² spline.
 
 Internally the simulator uses NED reference axes and FRD body axes; :func:`sample` re-expresses its output.
 """
@@ -23,6 +24,7 @@ from .aerobatics import (
     split_s,
 )
 from .imu import ClockModel, ImuModel, TriadModel
+from .recorded import RecordedMotion, sample_recorded
 from .sampling import ImuData, MagneticDisturbance, MagneticField, sample
 from .trajectories import GRAVITY, Coning, ConstantRotation, RandomMotion, RockingPlatform, Trajectory
 
@@ -37,6 +39,7 @@ __all__ = [
     "MagneticDisturbance",
     "MagneticField",
     "RandomMotion",
+    "RecordedMotion",
     "RockingPlatform",
     "Segment",
     "Trajectory",
@@ -50,6 +53,7 @@ __all__ = [
     "level",
     "loop",
     "sample",
+    "sample_recorded",
     "spin",
     "split_s",
 ]

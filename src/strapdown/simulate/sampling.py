@@ -2,15 +2,15 @@
 
 What a gyro sample is (``gyro=``), and which integrator reproduces an ideal IMU's readings:
 
-==============  ===============================================  ====================================================
-``gyro=``       sample k is                                      reproduced to rounding by
-==============  ===============================================  ====================================================
-``"rate"``      the body rate at t[k], the start of step k       none exactly (rk4 is fourth order)
-``"average"``   the mean rate over step k                        ``exact`` on rotations about body-fixed axes
-                                                                 (every aerobatic figure, constant rotation)
-``"increment"`` ``∫ω dt`` over step k (a delta-angle sensor)      the same; ``coning2`` is fourth order on any motion
-``"rotvec"``    the rotation vector of step k's attitude change  ``exact`` (input="increment"), on any motion
-==============  ===============================================  ====================================================
+===============  ===============================================  ====================================================
+``gyro=``        sample k is                                      reproduced to rounding by
+===============  ===============================================  ====================================================
+``"rate"``       the body rate at t[k], the start of step k       none exactly (rk4 is fourth order)
+``"average"``    the mean rate over step k                        ``exact`` on rotations about body-fixed axes
+                                                                  (every aerobatic figure, constant rotation)
+``"increment"``  ``∫ω dt`` over step k (a delta-angle sensor)      the same; ``coning2`` is fourth order on any motion
+``"rotvec"``     the rotation vector of step k's attitude change  ``exact`` (input="increment"), on any motion
+===============  ===============================================  ====================================================
 
 The accelerometer reads the specific force in the same form (instants, means, or velocity increments for the
 last two); the magnetometer reads the field at t[k].  :attr:`ImuData.gyro_input` tells

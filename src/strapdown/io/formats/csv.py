@@ -62,6 +62,8 @@ class CsvSource(Source):
             shown = ", ".join(map(repr, dup[:10])) + (f" and {len(dup) - 10} more" if len(dup) > 10 else "")
             raise ValueError(f"the column name(s) {shown} appear more than once in the header")
         self._index = {h: i for i, h in enumerate(self.header)}
+        if self.header == ["time", "seconds_elapsed", "z", "y", "x"]:
+            self.frame, self.body = "ENU", "RFU"  # a Sensor Logger file: Android's axes (formats.sensorlogger)
         self.fields = {h: 1 for h in self.header}
         blank = next((i for i, line in enumerate(lines) if line.strip()), len(lines))
         if blank < len(lines) and self._is_unit_row(lines[blank]):

@@ -23,16 +23,16 @@ from ..merge import place_on_rows
 from ..registry import Format, register
 from ..source import MemorySource, Source, TimeOrigin
 from ..timebase import check_period, infer_time_unit, origin_of
-from ..units import parse_unit
+from ..units import UNITS, parse_unit
 
 __all__ = ["Stream", "kind_of_file", "merge_streams", "open_files", "read_stream"]
 
 _NAMES = {
     "gyro": re.compile(r"gyr|rotationrate|angular", re.IGNORECASE),
     "acc": re.compile(r"acc|specificforce", re.IGNORECASE),
-    "mag": re.compile(r"mag|compass", re.IGNORECASE),
+    "mag": re.compile(r"magnet|(^|[^a-z])mag|compass", re.IGNORECASE),  # not "Image"
 }
-_PER_S = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+_PER_S = UNITS["time"]  # s per unit
 #: Largest total size of the files taken out of one zip, bytes (a zip bomb stops here).
 MAX_UNZIPPED_BYTES = 4 << 30
 
@@ -53,8 +53,10 @@ def kind_of_file(name: str) -> str | None:
     Examples
     --------
     >>> from strapdown.io.formats.multi import kind_of_file
-    >>> kind_of_file("Gyroscope.csv"), kind_of_file("TotalAcceleration.csv"), kind_of_file("notes.csv")
-    ('gyro', 'acc', None)
+    >>> kind_of_file("Gyroscope.csv"), kind_of_file("TotalAcceleration.csv"), kind_of_file("imu_mag.csv")
+    ('gyro', 'acc', 'mag')
+    >>> kind_of_file("UncalibratedMagnetometer.csv"), kind_of_file("Image.csv"), kind_of_file("notes.csv")
+    ('mag', None, None)
     """
     found = [k for k, pattern in _NAMES.items() if pattern.search(Path(name).stem)]
     return found[0] if len(found) == 1 else None
@@ -237,8 +239,16 @@ def merge_streams(
                     f"{stream.path}: its time column {stream.time_field!r} is {what} but the gyro file's is not; "
                     "the files must share a clock"
                 )
-            offset = stream.first - gyro.first  # exact for integers: both are Python ints
-            values = place_on_rows(gyro.t, stream.t + offset, stream.values)
+            rows, times, clock = _common_clock(gyro, unit, stream, time_unit)
+            values = place_on_rows(rows, times, stream.values)
+            # a sensor vanishing is no answer (a file of empty cells is the reader's checks' business)
+            if rows.size and np.isnan(values).all() and not np.isnan(stream.values).all():
+                raise ValueError(
+                    f"{stream.path}: none of its {stream.t.size} samples lies within a sample period of the gyro's "
+                    f"rows ({gyro.path.name}): its times run {float(times[0]):.6g} .. {float(times[-1]):.6g} and "
+                    f"the gyro's 0 .. {float(rows[-1]):.6g} ({clock} from the gyro's first sample); the files do "
+                    "not share a clock"
+                )
             if np.isnan(values).all(axis=1).any():
                 sparse.update(names)
         for i, n in enumerate(names):
@@ -251,6 +261,23 @@ def merge_streams(
     kind = origin_kind or origin_of(gyro.first, unit).kind
     src.time_origin = TimeOrigin(gyro.first, unit, kind)
     return src
+
+
+_NS = {"ns": 1, "us": 1_000, "ms": 1_000_000, "s": 1_000_000_000}  # integer factors: exact for integer clocks
+
+
+def _common_clock(gyro: Stream, unit: str, stream: Stream, declared: str | None):
+    """The gyro's and another stream's times in one unit (returned third), from the gyro's first sample.
+
+    A file whose time column names its own unit (``time_us`` beside a gyro's ``time_ns``) is converted: taken
+    in the gyro's unit, none of its samples would land near a gyro row and the sensor would silently vanish.
+    """
+    own = unit if declared else (_hint(stream.time_field) or unit)
+    if own == unit:
+        return gyro.t, stream.t + (stream.first - gyro.first), unit  # exact for integers: both are Python ints
+    factor = _NS if stream.integer else _PER_S
+    offset = stream.first * factor[own] - gyro.first * factor[unit]  # Python ints for integer clocks
+    return gyro.t * factor[unit], stream.t * factor[own] + offset, "ns" if stream.integer else "s"
 
 
 def _hint(name: str) -> str | None:

@@ -1,0 +1,212 @@
+"""The parallel policy's decisions (strapdown._threads): settings, free cores, the size threshold, and results
+that do not depend on the thread count.  Decisions only: no elapsed time is measured here."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import pytest
+
+from strapdown import AttitudeIntegrator, integrate
+from strapdown import _threads as th
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [(None, None), ("", None), ("auto", None), (" AUTO ", None), ("1", 1), (" 12 ", 12), (3, 3), (np.int64(2), 2)],
+)
+def test_parse_accepts(value, expected):
+    assert th.parse(value) == expected
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "two", "1.5", "4 threads", 0, -1, 2.0, True])
+def test_parse_rejects_naming_the_setting(value):
+    with pytest.raises(ValueError, match=r"STRAPDOWN_THREADS must be a positive integer or 'auto', got"):
+        th.parse(value)
+
+
+def test_bad_environment_variable_is_an_error_naming_it(monkeypatch):
+    monkeypatch.setenv("STRAPDOWN_THREADS", "lots")
+    with pytest.raises(ValueError, match=r"STRAPDOWN_THREADS.*'lots'"):
+        th.choose(10**7)
+
+
+def test_bad_threads_argument_is_refused_at_construction():
+    with pytest.raises(ValueError, match="threads must be a positive integer or 'auto', got 0"):
+        AttitudeIntegrator("exact", threads=0)
+
+
+@pytest.mark.parametrize(
+    ("cores", "others", "free"), [(2, 0, 2), (2, 1, 1), (2, 2, 1), (2, 7, 1), (8, 2.4, 6), (8, 2.6, 5), (4, 0.0, 4)]
+)
+def test_free_cores_is_cores_less_running_tasks_at_least_one(cores, others, free):
+    assert th.free_cores(cores, others) == free
+
+
+def test_free_cores_without_load_information_counts_every_core(monkeypatch):
+    monkeypatch.setattr(th, "_running_others", lambda: None)
+    assert th.free_cores(6) == 6
+
+
+def test_running_others_excludes_this_task(monkeypatch, tmp_path):
+    fake = tmp_path / "loadavg"
+    fake.write_text("0.50 0.40 0.30 3/120 4242\n")
+    real_open = open
+    monkeypatch.setattr("builtins.open", lambda p, *a, **k: real_open(fake if p == "/proc/loadavg" else p, *a, **k))
+    assert th._running_others() == 2  # three running, one of them us
+
+
+def test_size_threshold_and_caps(monkeypatch):
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    limit = numba.get_num_threads()
+    per = th.MIN_SAMPLES_PER_THREAD
+    assert th.choose(per - 1, 64) == 1  # too short for a second thread whatever was asked
+    assert th.choose(2 * per, 64) == min(2, limit)
+    assert th.choose(100 * per, 64) == limit  # never more than numba's thread count
+    assert th.choose(100 * per, available=1) == 1  # a busy machine: one thread
+    assert th.choose(100 * per, 1) == 1
+
+
+def test_environment_variable_sets_the_count_and_argument_overrides_it(monkeypatch):
+    per = th.MIN_SAMPLES_PER_THREAD
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 16)
+    monkeypatch.setattr(th, "free_cores", lambda: 16)
+    monkeypatch.setenv("STRAPDOWN_THREADS", "3")
+    assert th.choose(100 * per) == 3
+    assert th.choose(100 * per, 5) == 5
+    assert th.choose(100 * per, "auto") == 16  # an explicit "auto" ignores the environment
+    monkeypatch.setenv("STRAPDOWN_THREADS", "auto")
+    monkeypatch.setattr(th, "free_cores", lambda: 4)
+    assert th.choose(100 * per) == 4
+
+
+def test_claim_gives_one_thread_while_another_kernel_runs():
+    with th.claim(2) as first:
+        with th.claim(2) as second:
+            assert second == 1  # the second caller runs the serial build instead of oversubscribing
+    assert first == min(2, numba.config.NUMBA_NUM_THREADS)
+    with th.claim(1) as only:
+        assert only == 1
+
+
+@pytest.mark.parametrize("method", ["exact", "first-order", "cayley"])
+def test_threads_one_is_bit_identical_to_threads_n(method, rng):
+    # long enough for several tiles and for two threads to be chosen
+    n = 5 * th.MIN_SAMPLES_PER_THREAD + 12345
+    g = rng.standard_normal((n, 3))
+    one = integrate(g, 0.005, method=method, threads=1)
+    many = integrate(g, 0.005, method=method, threads=2)
+    assert one.tobytes() == many.tobytes()
+    seq = integrate(g, 0.005, method=method, parallel=False)
+    # and both are the sequential loop's attitudes to rounding (an independent computation)
+    dots = np.abs(np.sum(one * seq, axis=-1))
+    assert (1 - dots).max() < 1e-12
+
+
+def test_batch_jobs_default_to_one_thread_unless_told(monkeypatch):
+    from strapdown.batch import _one_thread
+
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 8)
+    monkeypatch.setattr(th, "free_cores", lambda: 8)
+    n = 100 * th.MIN_SAMPLES_PER_THREAD
+    assert th.choose(n) == 8  # outside a batch job: every free core
+    assert _one_thread(lambda _: th.choose(n), None) == 1  # a job in a worker: one thread
+    assert _one_thread(lambda _: th.choose(n, 4), None) == 4  # threads= still wins
+    monkeypatch.setenv("STRAPDOWN_THREADS", "3")
+    assert _one_thread(lambda _: th.choose(n), None) == 3  # and so does the environment
+    assert th.choose(n) == 3
+
+
+def test_concurrent_calls_from_python_threads_agree_bit_for_bit(rng):
+    from concurrent.futures import ThreadPoolExecutor
+
+    n = 4 * th.MIN_SAMPLES_PER_THREAD + 777
+    gyros = [rng.standard_normal((n, 3)) for _ in range(4)]
+    alone = [integrate(g, 0.005, threads=1) for g in gyros]
+    with ThreadPoolExecutor(4) as pool:  # one may hold the parallel kernel, the others run the serial build
+        together = list(pool.map(lambda g: integrate(g, 0.005, threads=2), gyros))
+    for a, b in zip(alone, together, strict=True):
+        assert a.tobytes() == b.tobytes()
+
+
+class _Machine:
+    """A fake run: part() advances a fake clock by the cost per sample of the thread count it was given."""
+
+    def __init__(self, cost):
+        self.cost = cost  # {threads: seconds per sample}
+        self.now = 0.0
+        self.calls = []
+
+    def clock(self):
+        return self.now
+
+    def part(self, t, lo, hi):
+        self.calls.append((t, lo, hi))
+        self.now += self.cost[t] * (hi - lo)
+
+
+@pytest.fixture
+def busy_two_cores(monkeypatch):
+    """Two cores, the run queue full (auto chooses 1), a fresh verdict, claim granting what is asked."""
+    from contextlib import contextmanager
+
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    monkeypatch.setattr(th, "_cores", lambda: 2)
+    monkeypatch.setattr(th, "_running_others", lambda: 3)
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
+    monkeypatch.setattr(th, "_verdict", [1, -np.inf])
+
+    @contextmanager
+    def grant(t):
+        yield t
+
+    monkeypatch.setattr(th, "claim", grant)
+
+
+@pytest.mark.parametrize(("cost", "rest"), [({1: 3.0, 2: 1.0}, 2), ({1: 1.0, 2: 3.0}, 1)])
+def test_busy_machine_probes_and_finishes_on_the_faster(busy_two_cores, cost, rest):
+    m = _Machine(cost)
+    p = th.PROBE_SAMPLES
+    n = 10 * p + 5
+    th.run(n, None, m.part, clock=m.clock)
+    assert m.calls == [(1, 0, p), (2, p, 2 * p), (rest, 2 * p, n)]
+    # a short call soon after reuses the verdict; once it is stale, the run queue decides again (one thread)
+    m.calls.clear()
+    th.run(p, None, m.part, clock=m.clock)
+    assert m.calls == [(rest, 0, p)]
+    m.now += th.PROBE_VALID_S + 1.0
+    m.calls.clear()
+    th.run(p, None, m.part, clock=m.clock)
+    assert m.calls == [(1, 0, p)]
+
+
+def test_probe_pieces_are_tile_aligned():
+    from strapdown._integrate_numba import SCAN_TILE
+
+    assert th.PROBE_SAMPLES % SCAN_TILE == 0  # pieces start on tile edges: the same bits as one call
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_setting_is_never_second_guessed(busy_two_cores, threads):
+    m = _Machine({1: 1.0, 2: 1.0})
+    n = 10 * th.PROBE_SAMPLES
+    th.run(n, threads, m.part, clock=m.clock)
+    assert m.calls == [(threads, 0, n)]
+
+
+def test_free_machine_runs_in_one_call_on_every_core(busy_two_cores, monkeypatch):
+    monkeypatch.setattr(th, "_running_others", lambda: 0)
+    m = _Machine({1: 1.0, 2: 1.0})
+    n = 10 * th.PROBE_SAMPLES
+    th.run(n, None, m.part, clock=m.clock)
+    assert m.calls == [(2, 0, n)]
+
+
+def test_auto_with_a_probe_gives_the_bits_of_one_thread(rng, monkeypatch):
+    monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
+    monkeypatch.setattr(th, "_running_others", lambda: 8)  # busy: the call probes (when there are two cores)
+    n = 3 * th.PROBE_SAMPLES + 4321
+    g = rng.standard_normal((n, 3))
+    dt = rng.uniform(0.001, 0.01, n)  # per-step durations: the pieces slice them too
+    assert integrate(g, dt).tobytes() == integrate(g, dt, threads=1).tobytes()

@@ -128,6 +128,14 @@ NOT_FUZZED = {
     "from_scipy": "takes scipy Rotation objects: test_interop.py",
     "to_scipy": "returns scipy Rotation objects: test_interop.py",
     "AttitudeIntegrator": "streaming: test_streaming_state_fuzz",
+    # new this round (h-rot), merged from main at the end of issue 14's work: not fuzzed yet
+    "Attitude": "new (h-rot): an object over the functions fuzzed here; not fuzzed yet",
+    "RotationSpline": "new (h-rot): not fuzzed yet",
+    "align_vectors": "new (h-rot): not fuzzed yet",
+    "as_davenport": "new (h-rot): not fuzzed yet",
+    "from_davenport": "new (h-rot): not fuzzed yet",
+    "as_mrp": "new (h-rot): not fuzzed yet",
+    "from_mrp": "new (h-rot): not fuzzed yet",
 }
 STREAMING = ["TiltEstimator", "Mahony", "Madgwick", "Complementary", "AttitudeEstimator"]
 

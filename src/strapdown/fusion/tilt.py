@@ -348,8 +348,11 @@ class TiltEstimator(Estimator):
         ("acc_filter", (2, 3)),
         ("rest_filter", (6,)),
         ("rest_seconds", ()),
+        ("gyro_previous", (3,)),
+        ("nominal_interval", ()),
     )
     _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
+    _optional_keys = ("gyro_previous", "nominal_interval")  # states saved before these existed restore too
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)

@@ -186,6 +186,7 @@ class Estimator:
     # the layout of ``state``: the shape of every entry (() for a number), and the entries that are attitudes
     _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
     _unit_keys: tuple[str, ...] = ("q",)
+    _optional_keys: tuple[str, ...] = ()  # entries an older state may lack (the kernel call has a default)
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -224,7 +225,8 @@ class Estimator:
             raise ValueError(f"state['_use_mag'] must be True or False, got {use_mag!r}")
         # The kernels index these arrays without bounds checks: a short or mis-shaped array would make them read
         # or write outside it, so every entry is checked against the class's layout before it gets there.
-        state = _checked_state(value, dict(self._state_layout), self._unit_keys)
+        layout = {k: v for k, v in self._state_layout if k in value or k not in self._optional_keys}
+        state = _checked_state(value, layout, self._unit_keys)
         self._t_last = None if t_last is None else float(t_last)
         self._use_mag = bool(use_mag)
         self._state = state

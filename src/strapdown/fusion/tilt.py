@@ -352,6 +352,7 @@ class TiltEstimator(Estimator):
         ("nominal_interval", ()),
     )
     _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
+    _optional_keys = ("gyro_previous", "nominal_interval")  # states saved before these existed restore too
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)
@@ -448,8 +449,8 @@ class TiltEstimator(Estimator):
                 st["acc_filter"].ravel(),
                 st["rest_filter"],
                 [st["rest_seconds"]],
-                st["gyro_previous"],
-                [st["nominal_interval"]],
+                st.get("gyro_previous", np.zeros(3)),  # states saved before these existed restore too
+                [st.get("nominal_interval", 0.0)],
             ]
         )
         k.run(

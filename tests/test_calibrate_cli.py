@@ -75,7 +75,7 @@ def test_calibrate_mag_then_estimate_true_north(recording, tmp_path):
     assert meta["calibration"] == "magnetometer"
     # (CSV has no place for metadata: the outputs are Parquet)
     # uncorrected hard/soft iron bends the heading; calibrated and turned to true north it follows the truth
-    assert heading_error(fixed, data) < 2.5 < 40 < heading_error(raw, data)
+    assert heading_error(fixed, data) < 2.5 < 20 < heading_error(raw, data)  # tens of degrees uncorrected
 
     aligned = tmp_path / "aligned.json"
     run(["calibrate", "mag", path, "-o", aligned, "--field-strength", "50", "--align-gyro"])

@@ -142,27 +142,28 @@ def test_convert_takes_quaternions_of_any_scale_and_names_refused_rows(tmp_path)
 
 
 def test_huge_readings_are_named_by_file_and_line_not_by_internal_arrays(tmp_path):
-    # one absurd reading passes the unit check (a percentile of the first rows) and failed later as "q[98, 0] is
-    # NaN" or "the step rotations overflow" (the reader's gyro-at-rest check, which needs the accelerometer,
-    # now stops estimate earlier: --no-unit-check reaches the filter)
+    # one absurd reading passed the unit check (a percentile of the first rows) and failed later as "q[98, 0] is
+    # NaN" or "the step rotations overflow"; now the reader refuses it in its chunk (with or without the unit
+    # check: no unit makes 1e300 plausible), naming the file, the line or row, the column and the value
+    def named(err, file, where, column):
+        assert file in err and where in err and f"'{column}'" in err and "1e+300" in err, err
+        assert "q[" not in err
+
     src = write_table(tmp_path / "huge.csv", level(gx=(98, 1e300)))
-    err = refused("estimate", src, "--no-unit-check", "-o", tmp_path / "o.csv")
-    assert "huge.csv: the attitude estimator lost the attitude at line 100, column gx = 1e+300 rad/s" in err
-    assert "q[" not in err
-    err = refused("integrate", src, "-o", tmp_path / "o.csv")
-    assert "huge.csv: the integration failed on lines 2 to 201" in err and "line 100, column gx = 1e+300" in err
+    named(refused("estimate", src, "--no-unit-check", "-o", tmp_path / "o.csv"), "huge.csv", "line 100", "gx")
+    named(refused("integrate", src, "-o", tmp_path / "o.csv"), "huge.csv", "line 100", "gx")
     # turned axes (--body) and a split integration still name the file's own column and line
     err = refused("integrate", src, "--frame", "ENU", "--body", "FRD", "-o", tmp_path / "o.csv")
-    assert "line 100, column gx = 1e+300" in err
+    named(err, "huge.csv", "line 100", "gx")
     src = write_table(tmp_path / "huge_y.csv", level(gy=(98, 1e300)))
     err = refused("integrate", src, "--frame", "ENU", "--body", "FRD", "-o", tmp_path / "o.csv")
-    assert "line 100, column gy = 1e+300" in err
+    named(err, "huge_y.csv", "line 100", "gy")
     err = refused("batch", src, "integrate", "--split", "2", "-j", "1", "--no-unit-check", "--out", tmp_path / "s")
-    assert "huge_y.csv: the integration failed on lines 2 to 101" in err and "line 100, column gy = 1e+300" in err
-    assert err.count("huge_y.csv") == 1  # the FAILED line names the file once
+    named(err, "huge_y.csv", "line 100", "gy")
     src = write_table(tmp_path / "acc.parquet", level(ay=(150, 1e300)))
-    err = refused("estimate", src, "-e", "tilt", "--no-unit-check", "-o", tmp_path / "o.csv")
-    assert "acc.parquet: the tilt estimator lost the attitude at row 150, column ay = 1e+300 m/s²" in err
+    named(
+        refused("estimate", src, "-e", "tilt", "--no-unit-check", "-o", tmp_path / "o.csv"), "acc.parquet", "150", "ay"
+    )
     assert not (tmp_path / "o.csv").exists()
 
 
@@ -220,7 +221,8 @@ def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
     # all truth occluded (NaN) on the movement samples: nothing to score
     err = refused("evaluate", broad_trial(tmp_path / "lost", quat=np.full((300, 4), np.nan)), code=2)
     assert "no movement sample has a true attitude" in err
-    # an estimate lost (NaN) after one absurd gyro reading scored 0.000: the errors skip NaN rows
+    # one absurd gyro reading: the estimate was lost (NaN) and scored 0.000 (the errors skip NaN rows); now the
+    # filter refuses the sample and evaluate names the trial and the sample
     folder = broad_trial(tmp_path / "huge")
     import scipy.io
 
@@ -228,11 +230,11 @@ def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
     fields["imu_gyr"][98, 0] = 1e300
     scipy.io.savemat(folder / "t1.mat", fields)
     err = refused("evaluate", folder, code=2)
-    assert "t1.mat: the estimate is lost (NaN) from sample 99 of 300 on, where imu_gyr is [1e+300, 0.0, 0.0]" in err
+    assert "t1.mat: sample 99 of 300: gyr[98] = [1e+300, 0.0, 0.0] is beyond" in err
     # trials built in code bypass the loader: the evaluation itself refuses a NaN score
     trial = load_trials(broad_trial(tmp_path / "good"))[0]
     trial.quat[:] = 0.0
-    with pytest.raises(ValueError, match="t1: the errors are NaN"):
+    with pytest.raises(ValueError, match=r"t1: the true attitude cannot be scored: q_ref\[0\] is a zero quaternion"):
         evaluate("tilt", [trial])
 
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
+from ._validate import SampleError
 from .broad import Trial, example_start, group_names, load_trials
 from .frames import frame_quaternion
 from .fusion import (
@@ -234,7 +235,10 @@ def _runner(estimator, params, use_mag: bool, start: str) -> tuple[Callable[[Tri
             q0 = multiply(nwu_to_enu, example_start(trial.acc[0], trial.mag[0]))
         f = cls(p, q0=q0, frame="ENU")
         mag = trial.mag if use_mag else None
-        return f.update(trial.gyr, trial.acc, mag, dt=trial.dt).q
+        try:
+            return f.update(trial.gyr, trial.acc, mag, dt=trial.dt).q
+        except SampleError as exc:  # the filter's words name its arrays and index: here, the trial and its sample
+            raise ValueError(f"{trial.path or trial.name}: sample {exc.sample + 1} of {len(trial)}: {exc}") from None
 
     changed = [
         f"{f.name}={_fmt(getattr(p, f.name))}" for f in fields(p) if getattr(p, f.name) != getattr(pcls(), f.name)
@@ -310,7 +314,10 @@ def evaluate(
         if q.shape != trial.quat.shape:
             raise ValueError(f"the estimator returned shape {q.shape} on {trial.name}; expected {trial.quat.shape}")
         _check_estimate(q, trial)
-        e = rmse_errors(q, trial.quat, trial.movement, heading_offset=remove)
+        try:
+            e = rmse_errors(q, trial.quat, trial.movement, heading_offset=remove)
+        except ValueError as exc:  # the metric names its arrays: q_ref is the trial's opt_quat
+            raise ValueError(f"{trial.name}: the true attitude cannot be scored: {exc}") from None
         if not all(np.isfinite(v) for v in e.values()):
             # a NaN score would rank nowhere and average everything it meets into NaN
             raise ValueError(

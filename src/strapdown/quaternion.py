@@ -531,7 +531,8 @@ def slerp(p, q, t, *, check: bool = True) -> np.ndarray:
     p, q : array_like, shape (..., 4)
         Non-zero quaternions.
     t : array_like, shape (...)
-        Interpolation parameters (values outside [0, 1] extrapolate); all leading axes broadcast.
+        Interpolation parameters (values outside [0, 1] extrapolate); all leading axes broadcast.  ``|t|`` times
+        the half angle between p and q must stay within ``1e-3/ε`` rad (4.5e12 in float64), as in :func:`power`.
     check : bool
         Reject NaN, infinities and zero quaternions (default).
 
@@ -560,6 +561,14 @@ def slerp(p, q, t, *, check: bool = True) -> np.ndarray:
     _, half, unit = _half_angle(r)
     half, t = np.broadcast_arrays(half, t.astype(dtype, copy=False))
     th = t * half
+    # as in power: beyond |t θ/2| ε ≈ 1e-3 rounding leaves the angle unknown (t = 1.7e308 made th inf and q NaN)
+    limit = 1e-3 / np.finfo(dtype).eps
+    if not (np.abs(th) <= limit).all():
+        bad = ~(np.abs(th) <= limit)
+        raise ValueError(
+            f"slerp{_v.first_index(bad)}: t times the half angle between p and q is {float(th[bad][0]):.3g} rad, "
+            f"beyond {limit:.3g} rad, where {np.dtype(dtype).name} rounding leaves the angle of the result unknown"
+        )
     rt = np.empty((*half.shape, 4), dtype=dtype)
     rt[..., 0] = np.cos(th)
     rt[..., 1:] = np.sin(th)[..., None] * unit

@@ -145,6 +145,15 @@ def test_nan_rows_skipped_json_round_trip_and_float32(tmp_path):
     (tmp_path / "twice.json").write_text(json.dumps(doc))
     with pytest.raises(ValueError, match=r"twice.json holds two magnetometer calibrations \(entries 0 and 1\)"):
         load(tmp_path / "twice.json")
+    # the same rule where calibrations are written or handed to a pipeline, and only Calibration objects pass
+    from strapdown.calibrate._apply import by_sensor
+
+    for give in (lambda *c: save(tmp_path / "two.json", *c), lambda *c: by_sensor(list(c))):
+        with pytest.raises(ValueError, match="two magnetometer calibrations given"):
+            give(cal, cal)
+        with pytest.raises(ValueError, match="Calibration objects, got dict"):
+            give(cal, {"sensor": "gyroscope"})
+    assert not (tmp_path / "two.json").exists()
 
 
 def test_a_small_patch_of_directions_is_refused():

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._calibration import Calibration
+from ._calibration import one_per_sensor
 
 
 def by_sensor(calibration) -> dict:
@@ -15,14 +15,7 @@ def by_sensor(calibration) -> dict:
     if calibration is None:
         return {}
     items = calibration.values() if isinstance(calibration, dict) else calibration
-    out = {}
-    for cal in items:
-        if not isinstance(cal, Calibration):
-            raise ValueError(f"calibration must hold strapdown.calibrate.Calibration objects, got {type(cal).__name__}")
-        if cal.sensor in out:
-            raise ValueError(f"calibration holds two {cal.sensor} calibrations; give one per sensor")
-        out[cal.sensor] = cal
-    return out
+    return one_per_sensor(items, "calibration must hold strapdown.calibrate.Calibration objects:")
 
 
 def check_axes(cal: dict, sensor: str, declared: str) -> None:

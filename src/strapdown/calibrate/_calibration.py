@@ -246,13 +246,7 @@ def save(path, *calibrations: Calibration) -> None:
     """
     if not calibrations:
         raise ValueError("save needs at least one Calibration")
-    seen = {}
-    for cal in calibrations:
-        if not isinstance(cal, Calibration):
-            raise ValueError(f"save takes Calibration objects, got {type(cal).__name__}")
-        if cal.sensor in seen:
-            raise ValueError(f"two {cal.sensor} calibrations given; a file holds one per sensor")
-        seen[cal.sensor] = cal
+    seen = one_per_sensor(calibrations, "save takes")
     doc = {
         "format": _FORMAT,
         "version": _VERSION,
@@ -298,3 +292,18 @@ def load(path) -> dict[str, Calibration]:
             raise ValueError(f"{path} holds two {cal.sensor} calibrations (entries {out[cal.sensor][1]} and {i})")
         out[cal.sensor] = cal, i
     return {sensor: cal for sensor, (cal, _) in out.items()}
+
+
+def one_per_sensor(calibrations, what: str) -> dict:
+    """Calibrations by sensor name; anything but a Calibration, or two of one sensor, is refused.
+
+    ``what`` starts the message about a wrong type (``"save takes"``), naming who asked.
+    """
+    out = {}
+    for cal in calibrations:
+        if not isinstance(cal, Calibration):
+            raise ValueError(f"{what} Calibration objects, got {type(cal).__name__}")
+        if cal.sensor in out:
+            raise ValueError(f"two {cal.sensor} calibrations given; give one per sensor")
+        out[cal.sensor] = cal
+    return out

@@ -185,6 +185,7 @@ LOGO_GRIDS = {
     "bias_noise_acc_factor": ([0.0, 0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
     "acc_bias_sigma_init": ([0.0, 0.01, 0.03], "6D", "inclination"),
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
+    "offline_time_factor": ([1.0, 1.5, 2.0, 3.0], "offline", "inclination"),
     "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
 }
 

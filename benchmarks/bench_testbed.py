@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from strapdown.fusion import attitude
+from strapdown.fusion import attitude, attitude_offline
 from strapdown.metrics import attitude_errors
 from strapdown.simulate import (
     ClockModel,
@@ -69,6 +69,51 @@ class WithRests(Trajectory):
     def rate(self, t):
         s, speed = self._warp(t)
         return self._base.rate(s) * speed[:, None]
+
+
+class Pendulum(Trajectory):
+    """A pendulum of length ``length`` m swinging at its natural rate sqrt(g/L) with amplitude ``amplitude`` rad,
+    its plane of swing turning about the vertical at ``precession`` rad/s so that it swings in every direction.
+
+    The sensor is at the bob: its specific force points along the rod (to the small-angle approximation of the
+    motion), so no single accelerometer sample tells the tilt, and the acceleration is as large as gravity's
+    tangential part and turns with the body (a lever arm).  NED, FRD, as every trajectory.
+    """
+
+    def __init__(self, duration: float, length: float = 0.5, amplitude: float = np.radians(30.0),
+                 precession: float = np.radians(5.0), phase: float = 0.0):
+        self.duration = duration
+        self.length, self.amplitude, self.precession, self.phase = length, amplitude, precession, phase
+        self.omega = np.sqrt(9.80665 / length)
+
+    def _angles(self, t):
+        t = np.atleast_1d(np.asarray(t, dtype=np.float64))
+        theta = self.amplitude * np.cos(self.omega * t + self.phase)
+        theta_dot = -self.amplitude * self.omega * np.sin(self.omega * t + self.phase)
+        return t, theta, theta_dot, self.precession * t
+
+    def attitude(self, t):
+        _, theta, _, psi = self._angles(t)
+        qz = np.column_stack([np.cos(psi / 2), 0 * psi, 0 * psi, np.sin(psi / 2)])
+        qx = np.column_stack([np.cos(theta / 2), np.sin(theta / 2), 0 * theta, 0 * theta])
+        from strapdown.quaternion import multiply
+
+        return multiply(qz, qx)
+
+    def rate(self, t):
+        _, theta, theta_dot, _ = self._angles(t)
+        return np.column_stack([theta_dot, self.precession * np.sin(theta), self.precession * np.cos(theta)])
+
+    def _position(self, t):
+        _, theta, _, psi = self._angles(t)
+        # R_z(psi) R_x(theta) (0, 0, L): the bob below the pivot (NED z down)
+        y, z = -np.sin(theta) * self.length, np.cos(theta) * self.length
+        return np.column_stack([-np.sin(psi) * y, np.cos(psi) * y, z])
+
+    def acceleration(self, t):
+        t = np.atleast_1d(np.asarray(t, dtype=np.float64))
+        h = 1e-3
+        return (self._position(t + h) - 2.0 * self._position(t) + self._position(t - h)) / (h * h)
 
 
 def consumer(calibrated_mag: bool = True, **gyro_changes) -> ImuModel:
@@ -127,6 +172,8 @@ def conditions():
         0.0,
         10.0,
     )
+    c["pendulum (0.5 m, 30°)"] = lambda s: (Pendulum(120.0, phase=s), 100.0, consumer(), (), 0.0, 10.0)
+    c["  same, ideal IMU"] = lambda s: (Pendulum(120.0, phase=s), 100.0, ImuModel.ideal(), (), 0.0, 10.0)
     c["gyro bias 5°/s (x)"] = lambda s: (motion(s), 100.0, consumer(bias=deg([5.0, 0.3, -0.2])), (), 0.0, 10.0)
     c["gyro bias 3-5°/s (all axes)"] = lambda s: (
         motion(s),
@@ -140,7 +187,7 @@ def conditions():
 
 
 def run_condition(make, seed: int) -> dict:
-    from vqf import VQF
+    from vqf import VQF, offlineVQF
 
     traj, rate, imu, disturbances, drop, settle, *rest = make(seed)
     params = rest[0] if rest else None
@@ -168,6 +215,8 @@ def run_condition(make, seed: int) -> dict:
         "ours 9D": attitude(g, a, m, t=tr, params=params).q,
         "VQF 6D": VQF(dt).updateBatch(g, a)["quat6D"],
         "VQF 9D": VQF(dt).updateBatch(g, a, m)["quat9D"],
+        "ours offline 6D": attitude_offline(g, a, m, t=tr, params=params).q,
+        "offlineVQF 6D": offlineVQF(g, a, m, dt)["quat9D"],
     }
     scored = tr >= tr[0] + settle
     out = {}

@@ -653,3 +653,32 @@ def test_an_uncalibrated_accelerometer_bias_can_be_estimated():
     incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][settled])) for e in (modelled, plain)]
     assert incl[0] < 0.85 * incl[1], incl  # measured 1.16° against 1.48°
     assert np.linalg.norm(f.acc_bias - acc_bias) < 0.5 * np.linalg.norm(acc_bias)
+
+
+def _butterworth_gain(omega, tau):
+    """|H(iω)| of the estimator's low-pass, H(s) = (2/τ²) / (s² + 2s/τ + 2/τ²) (poles (-1 ± i)/τ)."""
+    w0 = 2.0 / tau**2
+    return w0 / np.hypot(w0 - omega**2, 2.0 * omega / tau)
+
+
+def test_offline_inclination_filter_is_zero_phase_with_the_squared_gain():
+    # A level body shaken along x at 0.2 Hz (velocity bounded), an ideal IMU: the filter in I leaves LP[a]/g of
+    # tilt.  Online that is |H| A/g, lagging; offline the forward-backward pass must leave |H|² A/g in phase
+    # with the acceleration (closed form above, τ = tau_acc · offline_time_factor), not the Re H of a mean of
+    # two one-way passes (its attenuation is that of one pass)
+    p = AttitudeParams()
+    tau, amp, omega, dt = p.tau_acc * p.offline_time_factor, 2.0, 2 * np.pi * 0.2, 0.01
+    t = np.arange(0.0, 300.0, dt)
+    acc = np.column_stack([amp * np.sin(omega * t), 0 * t, np.full_like(t, 9.80665)])
+    est = attitude_offline(np.zeros((t.size, 3)), acc, dt=dt, params={"bias_sigma_init": 1e-9, "scale_sigma_init": 0})
+    tilt = 2.0 * est.q[:, 2] / est.q[:, 0]  # about y: the level body's pitch error, small
+    mid = (t > 60.0) & (t < 240.0)  # away from the ends' start-up
+    basis = np.column_stack([np.sin(omega * t[mid]), np.cos(omega * t[mid]), np.ones(mid.sum())])
+    (in_phase, quadrature, _), *_ = np.linalg.lstsq(basis, tilt[mid], rcond=None)
+    expected = amp / 9.80665 * _butterworth_gain(omega, tau) ** 2
+    assert abs(abs(in_phase) - expected) < 0.03 * expected, (in_phase, expected)
+    assert abs(quadrature) < 0.03 * expected  # zero phase
+    online = attitude(np.zeros((t.size, 3)), acc, dt=dt, params={"bias_sigma_init": 1e-9, "scale_sigma_init": 0})
+    tilt_online = 2.0 * online.q[mid, 2] / online.q[mid, 0]
+    online_amp = np.hypot(*np.linalg.lstsq(basis, tilt_online, rcond=None)[0][:2])
+    assert abs(online_amp - amp / 9.80665 * _butterworth_gain(omega, p.tau_acc)) < 0.03 * online_amp

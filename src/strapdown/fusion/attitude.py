@@ -65,11 +65,16 @@ How it works
    estimator runs forward and backward in time (time constants ``offline_time_factor`` times longer, 9D with a
    magnetometer); at each sample the two bias estimates, each from one side of the record and so independent,
    are combined by their inverse variances (the two-filter form of the Rauch-Tung-Striebel smoother), and the
-   scale is the mean of the two passes' final estimates, each of which has seen the whole record.  Two 6D
-   passes, forward and backward, then run on the gyro corrected by that smoothed bias and scale, holding them:
-   no pass spends its first minutes learning what the other end of the record already knows.  Their lags are
-   equal and opposite, so their weighted mean (weights 1 - exp(-t/tau_acc) from each pass's start) cancels
-   them.  With a magnetometer the heading is then taken from the field in that combined 6D frame, smoothed
+   scale is the mean of the two passes' final estimates, each of which has seen the whole record.  The gyro,
+   corrected by that smoothed bias and scale, then gives one gyro frame over the whole record, and the
+   accelerometer in it passes the step-2 low-pass (time constant tau_acc times ``offline_time_factor``) forward
+   and then backward in time: a zero-phase filter whose gain is the square of the online one's, so linear
+   acceleration above the cutoff is attenuated as (ω tau)⁻⁴ instead of (ω tau)⁻², with no lag (a shaken level
+   body keeps 1/20 of the online tilt error at 0.2 Hz, exactly |H|²: tests/fusion/test_attitude.py).  The mean of
+   a forward and a backward pass, used before, cancels the lags too but has the gain Re H, the attenuation of
+   one pass; in the simulated test-bed the zero-phase filter cuts an ideal IMU's offline inclination error from
+   0.32° to 0.10° (benchmarks/bench_testbed.py), and on BROAD it is level (0.542° against 0.539°).
+   With a magnetometer the heading is then taken from the field in that 6D frame, smoothed
    forward and backward in time by a local-linear fit (time constant ``offline_heading_tau``; it follows the
    ramp a residual vertical bias gives the 6D heading right to the ends of the record), with the samples
    either bias pass found disturbed left out.
@@ -196,7 +201,9 @@ class AttitudeParams:
         seconds, and on BROAD 2-50 Hz give the same errors within 0.05°.
     offline_time_factor : float
         :func:`attitude_offline` learns the bias and scale in passes with ``tau_acc`` and ``tau_mag`` multiplied
-        by this.  Default 1.5.
+        by this, and low-passes the accelerometer forward and backward with ``tau_acc`` times this (a
+        zero-phase filter has no lag to pay for a longer time constant).  Default 1.5 (leave-one-group-out on
+        BROAD, benchmarks/bench_attitude.py).
     offline_heading_tau : float
         Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
         Default 100 (leave-one-group-out on BROAD): with the bias smoothed, the 6D heading drifts only with what
@@ -545,15 +552,6 @@ def _align_heading(reference, q, w) -> np.ndarray:
     return multiply([np.cos(offset / 2), 0.0, 0.0, np.sin(offset / 2)], q, check=False)
 
 
-def _combine(qf, qb, wf, wb, align_heading: bool) -> np.ndarray:
-    """Weighted mean of two attitude series (sign-aligned), optionally turning qb about z onto qf first."""
-    if align_heading:  # 6D passes have arbitrary, different headings: remove their mean offset
-        qb = _align_heading(qf, qb, wf * wb)
-    sign = np.where(np.sum(qf * qb, axis=1) < 0, -1.0, 1.0)[:, None]
-    q = (wf[:, None] * qf + wb[:, None] * sign * qb) / (wf + wb)[:, None]
-    return q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
 def attitude_offline(
     gyr,
     acc,
@@ -570,14 +568,14 @@ def attitude_offline(
     1. The estimator (9D with a magnetometer) runs forward and backward in time with ``tau_acc`` and
        ``tau_mag`` multiplied by ``params.offline_time_factor``; at each sample the two bias estimates are
        combined by inverse variance (two-filter smoother), and the scale is the mean of the passes' final ones.
-    2. Forward and backward 6D passes on the gyro corrected by that bias and scale (held fixed) give the
-       inclination: each sample takes their mean, weighted by how long each pass has been running
-       (``1 - exp(-t/tau_acc)``), after turning the backward heading onto the forward one.
-    3. With a magnetometer, the field is taken into that combined 6D frame and the heading that turns it north
+    2. The gyro corrected by that bias and scale gives one gyro frame for the whole record; the accelerometer
+       in it, low-passed forward and then backward in time (zero phase, time constant ``tau_acc`` times
+       ``offline_time_factor``), gives the inclination.
+    3. With a magnetometer, the field is taken into that 6D frame and the heading that turns it north
        is smoothed forward and backward in time by a local-linear fit (time constant
        ``offline_heading_tau``), leaving out every sample either pass of step 1 flagged as magnetically
        disturbed; the gaps are bridged by the samples around them.  If every sample is disturbed (a
-       magnetometer with uncalibrated hard iron, say), the combined 6D attitude is turned onto the forward
+       magnetometer with uncalibrated hard iron, say), the 6D attitude is turned onto the forward
        pass's mean heading instead.
 
     Parameters
@@ -606,6 +604,7 @@ def attitude_offline(
     """
     from ..frames import frame_quaternion
     from ._attitude_numba import smooth_directions
+    from ._offline_numba import zero_phase_6d
 
     p = params_of(AttitudeParams, params, "attitude")
     f = p.offline_time_factor
@@ -633,21 +632,17 @@ def attitude_offline(
     bias = (info_f * fwd.bias - info_b * bwd.bias[::-1]) / (info_f + info_b)  # the backward rates are negated
     sigma = 1.0 / np.sqrt(info_f + info_b)
     scale = 0.5 * (first.scale + back.scale)  # each pass's final estimate has seen the whole record
-    # 2. the attitude: forward and backward 6D passes on the gyro corrected by the smoothed bias and scale, which
-    # they hold (so that no pass spends its first minutes learning what the other side of the record knows)
+    # 2. the inclination: the gyro frame of the gyro corrected by the smoothed bias and scale (and the accelerometer
+    # by the passes' accelerometer bias, zero unless modelled), corrected by the accelerometer in that frame
+    # low-passed forward and backward in time (zero phase: _offline_numba.py)
     corrected = g - bias - scale * g
-    held = replace(p, bias_sigma_init=1e-9 * _DEG, scale_sigma_init=0.0, bias_noise_mag=0.0)
-    fwd6 = AttitudeEstimator(held).update(corrected, a, dt=dt, t=t)
-    gcr, _, _, _, _ = _reverse(corrected, a, None, dt, t)
-    bwd6 = AttitudeEstimator(held).update(gcr, ar, dt=dtr, t=tr)
-    intervals = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else None
+    a6 = np.ascontiguousarray(a - 0.5 * (first.acc_bias + back.acc_bias))
     n = g.shape[0]
-    if intervals is None:
-        intervals = np.broadcast_to(np.asarray(dt, dtype=np.float64), (n,))[1:]
-    time = np.concatenate([[0.0], np.cumsum(intervals)])
-    wf = 1.0 - np.exp(-time / held.tau_acc) + 1e-12
-    wb = 1.0 - np.exp(-(time[-1] - time) / held.tau_acc) + 1e-12
-    q = _combine(fwd6.q, bwd6.q[::-1], wf, wb, align_heading=True)
+    dts = np.zeros(n)  # the interval ending at each sample; the first attitude is the one at the first sample
+    dts[1:] = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else np.broadcast_to(dt, (n,))[1:]
+    intervals = dts[1:]
+    q = np.empty((n, 4))
+    zero_phase_6d(corrected, a6, dts, np.ascontiguousarray(fwd.q[0], dtype=np.float64), po.tau_acc, q)
     flags = fwd.flags.copy()
     if m is not None:
         disturbed = ((fwd.flags | bwd.flags[::-1]) & FLAG_MAG_REJECTED) > 0

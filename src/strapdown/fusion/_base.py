@@ -115,23 +115,43 @@ class Estimate:
         return self._ypr[:, 2]
 
 
-def _sensor(v, name: str, missing: bool) -> np.ndarray:
-    """A (N, 3) sensor array; with ``missing``, whole NaN rows are allowed (no sample of that sensor then)."""
-    if not missing:
-        return _v.vectors(v, name, dtype=np.float64)
+def _sensor(v, name: str, missing: bool) -> tuple[np.ndarray, float]:
+    """A (N, 3) sensor array, finite and within MAX_SAMPLE, and its largest |component|.
+
+    With ``missing``, whole NaN rows are allowed (no sample of that sensor then).
+    """
     arr = _v.vectors(v, name, check=False, dtype=np.float64)
-    if np.isfinite(arr).all():  # the usual case, one pass
-        return arr
-    absent = np.isnan(arr).all(axis=-1)
-    bad = ~(np.isfinite(arr).all(axis=-1) | absent)
-    if bad.any():
-        i = _v.first_index(bad)
-        raise ValueError(f"{name}{i} is partly NaN or infinite; a row must be finite, or all NaN for no sample")
-    return arr
+    if arr.size:
+        # The usual case in two whole-array passes: a NaN or an infinity fails this comparison too.  (Per-row
+        # maxima over an axis of length 3 would cost as much as the filter itself on long inputs.)
+        big = max(arr.max(), -arr.min())
+        if big <= MAX_SAMPLE:
+            return arr, float(big)
+    if not missing:
+        _v.check_finite(arr, name)
+    elif not np.isfinite(arr).all():
+        absent = np.isnan(arr).all(axis=-1)
+        bad = ~(np.isfinite(arr).all(axis=-1) | absent)
+        if bad.any():
+            i = _v.first_index(bad)
+            raise ValueError(f"{name}{i} is partly NaN or infinite; a row must be finite, or all NaN for no sample")
+    _in_range(arr, name)
+    return arr, _largest(arr)
+
+
+def _largest(arr: np.ndarray) -> float:
+    """The largest |component| of an array, NaN ignored (0 when empty or all NaN)."""
+    if not arr.size:
+        return 0.0
+    flat = arr.reshape(-1)
+    big = max(np.fmax.reduce(flat), -np.fmin.reduce(flat))
+    return 0.0 if big != big else float(big)
 
 
 def _in_range(arr: np.ndarray, name: str) -> None:
     """Raise if a sample has a component beyond MAX_SAMPLE (NaN rows, "no sample", are skipped)."""
+    if _largest(arr) <= MAX_SAMPLE:
+        return
     with np.errstate(invalid="ignore"):
         big = np.abs(arr).max(axis=-1, initial=0.0) > MAX_SAMPLE
     if big.any():
@@ -144,24 +164,22 @@ def _in_range(arr: np.ndarray, name: str) -> None:
 
 
 def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
-    g = _v.vectors(gyr, "gyr", dtype=np.float64)
-    a = _sensor(acc, "acc", missing)
-    _in_range(g, "gyr")
-    _in_range(a, "acc")
+    """gyr, acc, mag checked and C-contiguous float64 (no copy when they are already), and the largest |gyr|."""
+    g, g_max = _sensor(gyr, "gyr", False)
+    a, _ = _sensor(acc, "acc", missing)
     if g.ndim != 2 or a.ndim != 2:
         raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
         raise ValueError(f"acc has {a.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
     m = None
     if mag is not None:
-        m = _sensor(mag, "mag", missing)
-        _in_range(m, "mag")
+        m, _ = _sensor(mag, "mag", missing)
         if m.shape != g.shape:
             raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
     elif need_mag:
         raise ValueError("this filter was created for magnetometer data (9D): give mag, or create it without")
-    return np.ascontiguousarray(g), np.ascontiguousarray(a), m
+    return np.ascontiguousarray(g), np.ascontiguousarray(a), m, g_max
 
 
 class Estimator:
@@ -299,7 +317,7 @@ class Estimator:
         Estimate
             One attitude per sample, and the filter's extra outputs.
         """
-        g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
+        g, a, m, g_max = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
         # what a diverging chunk puts back (the kernels update the state arrays in place)
         kept = None
         if self._state is not None:
@@ -309,7 +327,7 @@ class Estimator:
             raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
         n = g.shape[0]
         dts = self._dts(n, dt, t)
-        _check_steps(g, dts)
+        _check_steps(g, dts, g_max)
         extra_in = self._prepare_inputs(n, **inputs)
         if self._state is None:
             if n == 0:
@@ -454,8 +472,15 @@ def float32_if(est: Estimate, *inputs) -> Estimate:
     return est
 
 
-def _check_steps(g: np.ndarray, dts: np.ndarray) -> None:
-    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE."""
+def _check_steps(g: np.ndarray, dts: np.ndarray, g_max: float) -> None:
+    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE.
+
+    ``g_max`` is the largest |gyr| component: the largest rate over the longest interval within bounds settles it.
+    """
+    if dts.size:
+        longest = dts.max()
+        if longest <= MAX_DT and g_max * longest <= MAX_STEP_ANGLE:
+            return
     if not (dts <= MAX_DT).all():
         k = int(np.flatnonzero(~(dts <= MAX_DT))[0])
         raise _v.SampleError(

@@ -152,7 +152,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
+def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
 
     p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
@@ -160,9 +160,13 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
     tau, new-field time, block length (s).
 
-    Speed: the per-sample recursion (gyro frame, filter, correction, rest detection) runs first over a block
-    and writes the 6D attitudes to ``out``; a second, simple loop then forms the block's regressor sums from
-    them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
+    Bias and its standard deviation change at block updates only, so they are not written per sample: segment
+    i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[i, :3]``) and its standard deviations
+    (``seg_val[i, 3:]``); the arrays need room for n + 1 segments; returns how many were written.
+
+    Speed: the per-sample recursion (gyro frame, filter, correction) runs first over a block and writes the 6D
+    attitudes to ``out``; simple loops then form the block's regressor sums from them, detect rest and, in 9D,
+    turn them into the 9D output.  Small loops run faster than one large one.
     """
     tau_acc = p[0]
     rest_time, rest_tau, prior, t_block = p[10], p[11], p[12], p[18]
@@ -214,6 +218,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
     bax, bay, baz = x[6], x[7], x[8]
     start = 0  # first sample of the current block in this chunk
+    n_seg = 0
     n = gyr.shape[0]
     for k in range(n):
         dt = dts[k]
@@ -277,7 +282,11 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
             _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
-            _rest(gyr, acc, dts, start, k + 1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
+            _rest(gyr, acc, dts, start, k + 1, p, rs, flags)
+            seg_end[n_seg] = k + 1
+            seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
+            seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
+            n_seg += 1
             rest, rr = rs[6], rs[11]
             start = k + 1
             # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
@@ -326,7 +335,12 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     # the unfinished block: its sums so far are kept in the state
     _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
-    _rest(gyr, acc, dts, start, n, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
+    _rest(gyr, acc, dts, start, n, p, rs, flags)
+    if start < n:
+        seg_end[n_seg] = n
+        seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
+        seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
+        n_seg += 1
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
     s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
@@ -349,11 +363,12 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
+    return n_seg
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2):
-    """Rest detection over samples j0..j1-1 (module notes, step 4), and their bias, sigma and rest flag.
+def _rest(gyr, acc, dts, j0, j1, p, rs, flags):
+    """Rest detection over samples j0..j1-1 (module notes, step 4), and their rest flag.
 
     Gyro and accelerometer close to their 0.5 s means for rest_time, the mean rate plausible as a bias.  Nothing
     in the per-sample recursion depends on it (the bias changes at block updates only), so it runs here, a loop
@@ -363,7 +378,6 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1,
     rest_mean_max = REST_MEAN_FACTOR * p[12]
     rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
     rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
-    bx, by, bz = x[0], x[1], x[2]
     for j in range(j0, j1):
         dt = dts[j]
         if dt != last_dt:  # the coefficient changes only with the interval
@@ -389,12 +403,6 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1,
             rest = 0.0
         if rest >= rest_time:
             flags[j] |= FLAG_REST
-        bias_out[j, 0] = bx
-        bias_out[j, 1] = by
-        bias_out[j, 2] = bz
-        sigma_out[j, 0] = sg0
-        sigma_out[j, 1] = sg1
-        sigma_out[j, 2] = sg2
     rs[0], rs[1], rs[2], rs[3], rs[4], rs[5] = rgx, rgy, rgz, rax, ray, raz
     rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12] = rest, rv, ax, ay, az, rr, last_dt
 

@@ -155,6 +155,9 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
 def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
 
+    dts: the sample intervals; sample k's is ``dts[min(k, len(dts) - 1)]``, so a constant interval may come as
+    two entries (the first sample's and every later one's: Estimator.compact_intervals).
+
     p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
     rest noise density², mag noise density², rest gyro threshold², rest acc threshold², rest time, rest filter
     tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
@@ -170,6 +173,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
     """
     tau_acc = p[0]
     rest_time, rest_tau, prior, t_block = p[10], p[11], p[12], p[18]
+    last = dts.shape[0] - 1  # sample k's interval is dts[min(k, last)]: a constant one may come as two entries
     at_limit = FLAG_BIAS_AT_LIMIT if max(abs(s[X]), abs(s[X + 1]), abs(s[X + 2])) > prior else 0
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
@@ -184,9 +188,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
-    sums[26] = s[ALIN]
-    sums[27], sums[28], sums[29] = s[ARES], s[ARES + 1], s[ARES + 2]
     sums[25] = s[NMAG]
+    # the accelerometer's departure from the filtered vector (sums 26-29), summed in registers over a block
+    lin_t, lin_x, lin_y, lin_z = s[ALIN], s[ARES], s[ARES + 1], s[ARES + 2]
     tb = s[TB]
     sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
     # the rest detector's state: gyro mean, accelerometer mean, seconds at rest, gyro scatter, last accelerometer
@@ -221,7 +225,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
     n_seg = 0
     n = gyr.shape[0]
     for k in range(n):
-        dt = dts[k]
+        dt = dts[min(k, last)]
         flag = 0
         wx = gyr[k, 0]
         wy = gyr[k, 1]
@@ -265,10 +269,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
             # the linear acceleration the filter is averaging out (the sample's departure from the filtered
             # vector), whose residual after the low-pass moves the correction as a bias error would
             if a_init < 0.0:  # low-passed at the block update (its cutoff is far below the block rate)
-                sums[26] += f_dt
-                sums[27] += (ix - mx) * f_dt
-                sums[28] += (iy - my) * f_dt
-                sums[29] += (iz - mz) * f_dt
+                lin_t += f_dt
+                lin_x += (ix - mx) * f_dt
+                lin_y += (iy - my) * f_dt
+                lin_z += (iz - mz) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -280,6 +284,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
         flags[k] = flag | at_limit
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
+            sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
             _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
             _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
             _rest(gyr, acc, dts, start, k + 1, p, rs, flags)
@@ -332,7 +337,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
+            lin_t = lin_x = lin_y = lin_z = 0.0
     # the unfinished block: its sums so far are kept in the state
+    sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
     _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
     _rest(gyr, acc, dts, start, n, p, rs, flags)
@@ -375,11 +382,12 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags):
     of its own the processor can pipeline, rather than lengthening the recursion's.
     """
     rest_gyr2, rest_acc2, rest_time, rest_tau = p[8], p[9], p[10], p[11]
+    last = dts.shape[0] - 1
     rest_mean_max = REST_MEAN_FACTOR * p[12]
     rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
     rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
     for j in range(j0, j1):
-        dt = dts[j]
+        dt = dts[min(j, last)]
         if dt != last_dt:  # the coefficient changes only with the interval
             rr = 1.0 - math.exp(-dt / rest_tau)
             last_dt = dt
@@ -415,11 +423,12 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
     the vertical row likewise and the field in the 6D frame.  The rows times the bias-and-scale correction are
     formed at the block update from these.
     """
+    last = dts.shape[0] - 1
     # continue the block's running sums in order, so that any chunking gives bit-identical sums
     u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
     u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
     for j in range(j0, j1):
-        dt = dts[j]
+        dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
         r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
@@ -451,7 +460,7 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
         mgx = mag[j, 0]
         if mgx != mgx:  # no magnetometer sample
             continue
-        dt = dts[j]
+        dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
         r20 = 2.0 * (qx * qz - qw * qy)
         r21 = 2.0 * (qy * qz + qw * qx)

@@ -251,6 +251,9 @@ class Estimator:
     _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
     _unit_keys: tuple[str, ...] = ("q",)
     _optional_keys: tuple[str, ...] = ()  # entries an older state may lack (the kernel call has a default)
+    # True: the kernels take a constant interval as two entries, the first sample's and the rest's (sample k's
+    # interval is dts[min(k, len(dts) - 1)]), instead of a per-sample array written and read only to repeat it
+    compact_intervals = False
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -317,7 +320,7 @@ class Estimator:
             if d.ndim == 0:
                 if not d > 0:
                     raise ValueError(f"dt must be positive, got {float(d)!r}")
-                return np.full(n, float(d))
+                return np.full(min(n, 2) if self.compact_intervals else n, float(d))
             if d.shape != (n,):
                 raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {d.shape}")
             if not (d > 0).all():
@@ -533,6 +536,8 @@ def _check_steps(g: np.ndarray, dts: np.ndarray, g_max: float) -> None:
         raise _v.SampleError(
             f"sample {k} lasts {dts[k]:.3g} s, beyond {MAX_DT:.0e} s; check the time unit of dt or t", k
         )
+    if len(dts) < len(g):  # compact intervals (Estimator.compact_intervals)
+        dts = np.concatenate([dts, np.full(len(g) - len(dts), dts[-1])])
     step = np.abs(g).max(axis=-1, initial=0.0) * dts
     if not (step <= MAX_STEP_ANGLE).all():
         k = int(np.flatnonzero(~(step <= MAX_STEP_ANGLE))[0])
@@ -552,7 +557,8 @@ def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarra
         return v
     from ..integrate import integrate
 
-    return rotate(integrate(gyr[1 : k + 1], dt=dts[1 : k + 1])[-1], v)
+    h = dts[1 : k + 1] if len(dts) > k else dts[-1]  # compact intervals: dts[-1] is every later one
+    return rotate(integrate(gyr[1 : k + 1], dt=h)[-1], v)
 
 
 def _first_present(arr: np.ndarray, name: str) -> int:

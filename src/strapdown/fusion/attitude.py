@@ -364,6 +364,7 @@ class AttitudeEstimator(Estimator):
     estimates_bias = True
     reports_flags = True
     missing_samples = True
+    compact_intervals = True
     # state layout, checked when a state is restored (fusion/_base.py): the kernel indexes it without bounds checks
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
     _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))

@@ -62,3 +62,40 @@ def test_attitude_bias_changes_at_block_updates_only():
     change = np.flatnonzero(np.any(np.diff(sigma, axis=0) != 0, axis=1)) + 1
     assert len(change) > 10
     assert np.all(change % 5 == 1)
+
+
+def test_a_bad_sample_deep_in_a_chunk_is_named_and_the_state_kept():
+    # the AttitudeEstimator checks its input from sums its kernel forms (checks_in_kernel): a bad sample far from
+    # the start must still be refused by name, and the chunk's work undone
+    from strapdown.fusion import AttitudeEstimator
+
+    n = 1000
+    gyr = np.zeros((n, 3))
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1))
+    mag = np.tile([0.0, 20.0, -40.0], (n, 1))
+    f = AttitudeEstimator()
+    f.update(gyr, acc, mag, dt=0.01)
+    before = f.state
+    cases = [
+        ("gyr", 700, [0.0, np.inf, 0.0], "gyr[700, 1] is infinite"),
+        ("acc", 500, [1e101, 0.0, 9.81], "acc[500] = [1e+101, 0.0, 9.81] is beyond 1e+100"),
+        ("mag", 900, [np.nan, 20.0, -40.0], "mag[900] is partly NaN"),
+        ("gyr", 800, [0.0, 0.0, 1e15], "gyr[800] turns by 1e+13 rad"),
+    ]
+    for name, k, row, message in cases:
+        data = {"gyr": gyr.copy(), "acc": acc.copy(), "mag": mag.copy()}
+        data[name][k] = row
+        try:
+            f.update(data["gyr"], data["acc"], data["mag"], dt=0.01)
+        except ValueError as e:
+            assert message in str(e), str(e)
+        else:
+            raise AssertionError(f"{name}[{k}] = {row} was accepted")
+        after = f.state
+        for key, v in before.items():
+            np.testing.assert_array_equal(after[key], v, err_msg=key)
+    # rows without a sample (all NaN) are not bad samples
+    data = acc.copy()
+    data[::7] = np.nan
+    est = f.update(gyr, data, mag, dt=0.01)
+    assert np.all(np.isfinite(est.q)) and np.all(est.flags[::7] & 2)

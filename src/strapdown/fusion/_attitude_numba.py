@@ -152,7 +152,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
+def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squares):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
 
     dts: the sample intervals; sample k's is ``dts[min(k, len(dts) - 1)]``, so a constant interval may come as
@@ -165,7 +165,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
 
     Bias and its standard deviation change at block updates only, so they are not written per sample: segment
     i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[i, :3]``) and its standard deviations
-    (``seg_val[i, 3:]``); the arrays need room for n + 1 segments; returns how many were written.
+    (``seg_val[i, 3:]``); the arrays need room for n + 1 segments; returns how many were written.  ``squares``
+    gets the sums of squares of gyr, acc and (9D) mag added, for the input checks (Estimator.checks_in_kernel).
 
     Speed: the per-sample recursion (gyro frame, filter, correction) runs first over a block and writes the 6D
     attitudes to ``out``; simple loops then form the block's regressor sums from them, detect rest and, in 9D,
@@ -285,9 +286,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
-            _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
+            _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums, squares)
             _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
-            _rest(gyr, acc, dts, start, k + 1, p, rs, flags)
+            _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
             seg_end[n_seg] = k + 1
             seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
             seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
@@ -340,9 +341,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
             lin_t = lin_x = lin_y = lin_z = 0.0
     # the unfinished block: its sums so far are kept in the state
     sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
-    _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
+    _sums(out, gyr, mag, use_mag, dts, start, n, x, sums, squares)
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
-    _rest(gyr, acc, dts, start, n, p, rs, flags)
+    _rest(gyr, acc, dts, start, n, p, rs, flags, squares)
     if start < n:
         seg_end[n_seg] = n
         seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
@@ -374,7 +375,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _rest(gyr, acc, dts, j0, j1, p, rs, flags):
+def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
     """Rest detection over samples j0..j1-1 (module notes, step 4), and their rest flag.
 
     Gyro and accelerometer close to their 0.5 s means for rest_time, the mean rate plausible as a bias.  Nothing
@@ -386,14 +387,17 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags):
     rest_mean_max = REST_MEAN_FACTOR * p[12]
     rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
     rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
+    acc2 = squares[1]
     for j in range(j0, j1):
         dt = dts[min(j, last)]
         if dt != last_dt:  # the coefficient changes only with the interval
             rr = 1.0 - math.exp(-dt / rest_tau)
             last_dt = dt
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
-        if acc[j, 0] == acc[j, 0]:  # a missing sample holds the last one
-            ax, ay, az = acc[j, 0], acc[j, 1], acc[j, 2]
+        a0, a1, a2 = acc[j, 0], acc[j, 1], acc[j, 2]
+        acc2 += a0 * a0 + a1 * a1 + a2 * a2  # NaN for a missing sample: the input checks then look closer
+        if a0 == a0:  # a missing sample holds the last one
+            ax, ay, az = a0, a1, a2
         rgx += rr * (wx - rgx)
         rgy += rr * (wy - rgy)
         rgz += rr * (wz - rgz)
@@ -413,10 +417,11 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags):
             flags[j] |= FLAG_REST
     rs[0], rs[1], rs[2], rs[3], rs[4], rs[5] = rgx, rgy, rgz, rax, ray, raz
     rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12] = rest, rv, ax, ay, az, rr, last_dt
+    squares[1] = acc2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
+def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums, squares):
     """Add samples j0..j1-1 to the block sums, time-weighted.
 
     The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|², and in 9D
@@ -427,6 +432,7 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
     # continue the block's running sums in order, so that any chunking gives bit-identical sums
     u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
     u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
+    gyr2 = squares[0]
     for j in range(j0, j1):
         dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
@@ -449,15 +455,20 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
         u9 += r10 * wx
         u10 += r11 * wy
         u11 += r12 * wz
-        w2 += (wx * wx + wy * wy + wz * wz) * dt
+        w = wx * wx + wy * wy + wz * wz
+        w2 += w * dt
+        gyr2 += w
     sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
     sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
+    squares[0] = gyr2
     if not use_mag:
         return
     v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
     h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
+    mag2 = squares[2]
     for j in range(j0, j1):
-        mgx = mag[j, 0]
+        mgx, mgy, mgz = mag[j, 0], mag[j, 1], mag[j, 2]
+        mag2 += mgx * mgx + mgy * mgy + mgz * mgz  # NaN for a missing sample, as acc in _rest
         if mgx != mgx:  # no magnetometer sample
             continue
         dt = dts[min(j, last)]
@@ -471,13 +482,14 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
         v3 += r20 * gyr[j, 0] * dt
         v4 += r21 * gyr[j, 1] * dt
         v5 += r22 * gyr[j, 2] * dt
-        hx, hy, hz = rotate(qw, qx, qy, qz, mgx, mag[j, 1], mag[j, 2])
+        hx, hy, hz = rotate(qw, qx, qy, qz, mgx, mgy, mgz)
         h0 += hx * dt
         h1 += hy * dt
         h2 += hz * dt
         tm += dt
     sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
     sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
+    squares[2] = mag2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})

@@ -158,12 +158,15 @@ class PiecewiseEstimate(Estimate):
         self._extra = value
 
 
-def _sensor(v, name: str, missing: bool) -> tuple[np.ndarray, float]:
+def _sensor(v, name: str, missing: bool, check: bool = True) -> tuple[np.ndarray, float]:
     """A (N, 3) sensor array, finite and within MAX_SAMPLE, and a bound of its largest |component|.
 
-    With ``missing``, whole NaN rows are allowed (no sample of that sensor then).
+    With ``missing``, whole NaN rows are allowed (no sample of that sensor then).  Without ``check``, only the
+    dtype and shape (and the bound is None).
     """
     arr = _v.vectors(v, name, check=False, dtype=np.float64)
+    if not check:
+        return arr, None
     if arr.size:
         # The usual case in one pass: a sum of squares within (MAX_SAMPLE/2)² bounds every component, and a NaN
         # or an infinity fails the comparison.  Its root bounds the largest component (for the step check).
@@ -209,17 +212,20 @@ def _in_range(arr: np.ndarray, name: str) -> None:
         )
 
 
-def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
-    """gyr, acc, mag checked and C-contiguous float64 (no copy when they are already), and a bound of |gyr|."""
-    g, g_max = _sensor(gyr, "gyr", False)
-    a, _ = _sensor(acc, "acc", missing)
+def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False, check: bool = True):
+    """gyr, acc, mag checked and C-contiguous float64 (no copy when they are already), and a bound of |gyr|.
+
+    Without ``check``, the values are not looked at (only dtypes and shapes; the bound is None).
+    """
+    g, g_max = _sensor(gyr, "gyr", False, check)
+    a, _ = _sensor(acc, "acc", missing, check)
     if g.ndim != 2 or a.ndim != 2:
         raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
         raise ValueError(f"acc has {a.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
     m = None
     if mag is not None:
-        m, _ = _sensor(mag, "mag", missing)
+        m, _ = _sensor(mag, "mag", missing, check)
         if m.shape != g.shape:
             raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
@@ -251,6 +257,10 @@ class Estimator:
     _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
     _unit_keys: tuple[str, ...] = ("q",)
     _optional_keys: tuple[str, ...] = ()  # entries an older state may lack (the kernel call has a default)
+    # True: _run returns (estimate, sums of squares of gyr, acc and mag over the chunk), formed by the kernel as it
+    # reads the samples, and the samples are checked only if those are not within bounds (a pass over the input
+    # less; a bad chunk's results are thrown away and the state put back, as for a diverging one)
+    checks_in_kernel = False
     # True: the kernels take a constant interval as two entries, the first sample's and the rest's (sample k's
     # interval is dts[min(k, len(dts) - 1)]), instead of a per-sample array written and read only to repeat it
     compact_intervals = False
@@ -366,7 +376,10 @@ class Estimator:
         Estimate
             One attitude per sample, and the filter's extra outputs.
         """
-        g, a, m, g_max = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
+        deferred = self.checks_in_kernel
+        g, a, m, g_max = _triads(
+            gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples, check=not deferred
+        )
         # what a diverging chunk puts back (the kernels update the state arrays in place)
         kept = None
         if self._state is not None:
@@ -376,12 +389,19 @@ class Estimator:
             raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
         n = g.shape[0]
         dts = self._dts(n, dt, t)
-        _check_steps(g, dts, g_max)
+        if not deferred:
+            _check_steps(g, dts, g_max)
         extra_in = self._prepare_inputs(n, **inputs)
         if self._state is None:
             if n == 0:
                 return float32_if(self._empty(), gyr, acc, mag)
             self._use_mag = m is not None
+            if deferred:  # the rows the initialisation reads are checked first
+                k = _first_present(a, "acc") + 1
+                _, _, _, g_start = _triads(g[:k], a[:k], None, False, self.missing_samples)
+                if m is not None:
+                    _sensor(m[:1], "mag", self.missing_samples)
+                _check_steps(g[:k], dts[:k], g_start)
             if self._q0 is None:
                 q_init = self._initial(g, a, m, dts, extra_in)
                 # the attitude from the first sample is the one at its end: its gyro reading has nothing left to do
@@ -392,6 +412,13 @@ class Estimator:
                 q_init = multiply(self._to_in, self._q0)
             self._state = self._new_state(q_init / np.linalg.norm(q_init), g, a, m, dts, extra_in)
         out = self._run(g, a, m, dts, extra_in)
+        if deferred:
+            out, squares = out
+            try:
+                self._check_after(g, a, m, dts, squares)
+            except ValueError:
+                self._state, self._t_last, self._use_mag = saved
+                raise
         if n and not np.isfinite(out.q[-1]).all():
             # NaN propagates along the filter's chain, so the last attitude shows whether any sample diverged
             k = int(np.flatnonzero(~np.isfinite(out.q).all(axis=-1))[0])
@@ -405,6 +432,15 @@ class Estimator:
             out.q = multiply(self._to_out, out.q, check=False)
         out.frame = self.frame
         return float32_if(out, gyr, acc, mag)
+
+    def _check_after(self, g, a, m, dts, squares) -> None:
+        """checks_in_kernel: raise as the checks before the kernel would have (the sums tell when to look)."""
+        limit = (0.5 * MAX_SAMPLE) ** 2  # within it, every component is within MAX_SAMPLE; NaN fails the test
+        if all(v <= limit for v in squares[: 2 if m is None else 3]):
+            g_max = float(np.sqrt(squares[0]))
+        else:  # a bad sample, or rows without a sample (NaN): the full checks find which
+            _, _, _, g_max = _triads(g, a, m, bool(self._use_mag), self.missing_samples)
+        _check_steps(g, dts, g_max)
 
     def _empty(self) -> Estimate:
         # the same fields as a non-empty result, so that callers need no special case for an empty chunk

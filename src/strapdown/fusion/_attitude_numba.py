@@ -286,7 +286,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
-            _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums, squares)
+            if use_mag:
+                _sums9(out, gyr, mag, dts, start, k + 1, sums, squares)
+            else:
+                _sums(out, gyr, dts, start, k + 1, sums, squares)
             _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
             _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
             seg_end[n_seg] = k + 1
@@ -341,7 +344,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             lin_t = lin_x = lin_y = lin_z = 0.0
     # the unfinished block: its sums so far are kept in the state
     sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
-    _sums(out, gyr, mag, use_mag, dts, start, n, x, sums, squares)
+    if use_mag:
+        _sums9(out, gyr, mag, dts, start, n, sums, squares)
+    else:
+        _sums(out, gyr, dts, start, n, sums, squares)
     _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
     _rest(gyr, acc, dts, start, n, p, rs, flags, squares)
     if start < n:
@@ -421,12 +427,11 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums, squares):
-    """Add samples j0..j1-1 to the block sums, time-weighted.
+def _sums(out, gyr, dts, j0, j1, sums, squares):
+    """Add samples j0..j1-1 to the block sums, time-weighted (6D; 9D: _sums9).
 
-    The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|², and in 9D
-    the vertical row likewise and the field in the 6D frame.  The rows times the bias-and-scale correction are
-    formed at the block update from these.
+    The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|².  The rows
+    times the bias-and-scale correction are formed at the block update from these.
     """
     last = dts.shape[0] - 1
     # continue the block's running sums in order, so that any chunking gives bit-identical sums
@@ -461,35 +466,73 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums, squares):
     sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
     sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
     squares[0] = gyr2
-    if not use_mag:
-        return
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
+def _sums9(out, gyr, mag, dts, j0, j1, sums, squares):
+    """_sums in 9D, one loop: also the vertical row of R(q), the same times diag(omega), and the field.
+
+    For the samples with a field, the field in the 6D frame, R(q) m, is formed from the rows already at hand
+    (cheaper than a rotation by q).
+
+    A sample without a field counts with weight 0 (selects, not a branch, so the loop stays one straight run).
+    """
+    last = dts.shape[0] - 1
+    u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
+    u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
     v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
     h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
-    mag2 = squares[2]
+    gyr2, mag2 = squares[0], squares[2]
     for j in range(j0, j1):
-        mgx, mgy, mgz = mag[j, 0], mag[j, 1], mag[j, 2]
-        mag2 += mgx * mgx + mgy * mgy + mgz * mgz  # NaN for a missing sample, as acc in _rest
-        if mgx != mgx:  # no magnetometer sample
-            continue
         dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
-        r20 = 2.0 * (qx * qz - qw * qy)
-        r21 = 2.0 * (qy * qz + qw * qx)
-        r22 = 1.0 - 2.0 * (qx * qx + qy * qy)
-        v0 += r20 * dt
-        v1 += r21 * dt
-        v2 += r22 * dt
-        v3 += r20 * gyr[j, 0] * dt
-        v4 += r21 * gyr[j, 1] * dt
-        v5 += r22 * gyr[j, 2] * dt
-        hx, hy, hz = rotate(qw, qx, qy, qz, mgx, mgy, mgz)
-        h0 += hx * dt
-        h1 += hy * dt
-        h2 += hz * dt
-        tm += dt
+        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
+        r01 = 2.0 * (qx * qy - qw * qz) * dt
+        r02 = 2.0 * (qx * qz + qw * qy) * dt
+        r10 = 2.0 * (qx * qy + qw * qz) * dt
+        r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
+        r12 = 2.0 * (qy * qz - qw * qx) * dt
+        u0 += r00
+        u1 += r01
+        u2 += r02
+        u3 += r10
+        u4 += r11
+        u5 += r12
+        u6 += r00 * wx
+        u7 += r01 * wy
+        u8 += r02 * wz
+        u9 += r10 * wx
+        u10 += r11 * wy
+        u11 += r12 * wz
+        w = wx * wx + wy * wy + wz * wz
+        w2 += w * dt
+        gyr2 += w
+        mx, my, mz = mag[j, 0], mag[j, 1], mag[j, 2]
+        mag2 += mx * mx + my * my + mz * mz  # NaN for a missing sample, as acc in _rest
+        present = mx == mx
+        dm = dt if present else 0.0
+        mx = mx if present else 0.0
+        my = my if present else 0.0
+        mz = mz if present else 0.0
+        r20 = 2.0 * (qx * qz - qw * qy) * dm
+        r21 = 2.0 * (qy * qz + qw * qx) * dm
+        r22 = (1.0 - 2.0 * (qx * qx + qy * qy)) * dm
+        v0 += r20
+        v1 += r21
+        v2 += r22
+        v3 += r20 * wx
+        v4 += r21 * wy
+        v5 += r22 * wz
+        h0 += r00 * mx + r01 * my + r02 * mz  # (R m) dt, its rows times dt at hand; 0 without a field
+        h1 += r10 * mx + r11 * my + r12 * mz
+        h2 += r20 * mx + r21 * my + r22 * mz
+        tm += dm
+    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
+    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
     sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
     sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
-    squares[2] = mag2
+    squares[0], squares[2] = gyr2, mag2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})

@@ -287,10 +287,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
             if use_mag:
-                _sums9(out, gyr, mag, dts, start, k + 1, sums, squares)
+                _sums9(out, gyr, mag, dts, start, k + 1, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
             else:
                 _sums(out, gyr, dts, start, k + 1, sums, squares)
-            _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
             _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
             seg_end[n_seg] = k + 1
             seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
@@ -345,10 +344,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     # the unfinished block: its sums so far are kept in the state
     sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
     if use_mag:
-        _sums9(out, gyr, mag, dts, start, n, sums, squares)
+        _sums9(out, gyr, mag, dts, start, n, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
     else:
         _sums(out, gyr, dts, start, n, sums, squares)
-    _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
     _rest(gyr, acc, dts, start, n, p, rs, flags, squares)
     if start < n:
         seg_end[n_seg] = n
@@ -469,15 +467,17 @@ def _sums(out, gyr, dts, j0, j1, sums, squares):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _sums9(out, gyr, mag, dts, j0, j1, sums, squares):
+def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     """_sums in 9D, one loop: also the vertical row of R(q), the same times diag(omega), and the field.
 
     For the samples with a field, the field in the 6D frame, R(q) m, is formed from the rows already at hand
-    (cheaper than a rotation by q).
-
-    A sample without a field counts with weight 0 (selects, not a branch, so the loop stays one straight run).
+    (cheaper than a rotation by q).  A sample without a field counts with weight 0 (selects, not a branch, so
+    the loop stays one straight run).  Then the 6D attitude in ``out`` becomes the 9D one, turned by the heading
+    offset: q = q_z(delta) ⊗ q_6D, flagged while the field is disturbed.
     """
     last = dts.shape[0] - 1
+    cd = math.cos(0.5 * delta)
+    sd = math.sin(0.5 * delta)
     u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
     u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
     v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
@@ -528,28 +528,17 @@ def _sums9(out, gyr, mag, dts, j0, j1, sums, squares):
         h1 += r10 * mx + r11 * my + r12 * mz
         h2 += r20 * mx + r21 * my + r22 * mz
         tm += dm
-    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
-    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
-    sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
-    sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
-    squares[0], squares[2] = gyr2, mag2
-
-
-@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
-    """9D: turn the 6D attitudes of samples j0..j1-1 by the heading offset, q = q_z(delta) ⊗ q_6D."""
-    if not use_mag:
-        return
-    cd = math.cos(0.5 * delta)
-    sd = math.sin(0.5 * delta)
-    for j in range(j0, j1):
-        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
         out[j, 0] = cd * qw - sd * qz
         out[j, 1] = cd * qx - sd * qy
         out[j, 2] = cd * qy + sd * qx
         out[j, 3] = cd * qz + sd * qw
         if disturbed:
             flags[j] |= FLAG_MAG_DISTURBED
+    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
+    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
+    sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
+    sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
+    squares[0], squares[2] = gyr2, mag2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})

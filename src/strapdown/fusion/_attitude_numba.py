@@ -609,7 +609,7 @@ def _block(
     g2 = s[AFO] ** 2 + s[AFO + 1] ** 2 + s[AFO + 2] ** 2
     r_acc = 0.0
     if accu[26] > 0.0 and g2 > 0.0:
-        ra = np.empty(3)
+        ra = tmp  # free until the Kalman updates below (no allocation per block)
         for i in range(3):
             v = accu[27 + i] / accu[26]
             y, s[RLV + i] = lowpass2_step(s[RLP + i], s[RLV + i], v, p00, p01, p10, p11)

@@ -474,6 +474,9 @@ def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     (cheaper than a rotation by q).  A sample without a field counts with weight 0 (selects, not a branch, so
     the loop stays one straight run).  Then the 6D attitude in ``out`` becomes the 9D one, turned by the heading
     offset: q = q_z(delta) ⊗ q_6D, flagged while the field is disturbed.
+
+    The 6D part repeats _sums line for line: one loop with the 9D part behind a ``use_mag`` branch measured 3 %
+    slower in 6D (and changes 9D's rounding), so each mode has its straight loop.
     """
     last = dts.shape[0] - 1
     cd = math.cos(0.5 * delta)

@@ -152,20 +152,29 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
+def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squares):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
+
+    dts: the sample intervals; sample k's is ``dts[min(k, len(dts) - 1)]``, so a constant interval may come as
+    two entries (the first sample's and every later one's: Estimator.compact_intervals).
 
     p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
     rest noise density², mag noise density², rest gyro threshold², rest acc threshold², rest time, rest filter
     tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
     tau, new-field time, block length (s).
 
-    Speed: the per-sample recursion (gyro frame, filter, correction, rest detection) runs first over a block
-    and writes the 6D attitudes to ``out``; a second, simple loop then forms the block's regressor sums from
-    them and, in 9D, turns them into the 9D output.  Two small loops run faster than one large one.
+    Bias and its standard deviation change at block updates only, so they are not written per sample: segment
+    i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[i, :3]``) and its standard deviations
+    (``seg_val[i, 3:]``); the arrays need room for n + 1 segments; returns how many were written.  ``squares``
+    gets the sums of squares of gyr, acc and (9D) mag added, for the input checks (Estimator.checks_in_kernel).
+
+    Speed: the per-sample recursion (gyro frame, filter, correction) runs first over a block and writes the 6D
+    attitudes to ``out``; simple loops then form the block's regressor sums from them, detect rest and, in 9D,
+    turn them into the 9D output.  Small loops run faster than one large one.
     """
     tau_acc = p[0]
     rest_time, rest_tau, prior, t_block = p[10], p[11], p[12], p[18]
+    last = dts.shape[0] - 1  # sample k's interval is dts[min(k, last)]: a constant one may come as two entries
     at_limit = FLAG_BIAS_AT_LIMIT if max(abs(s[X]), abs(s[X + 1]), abs(s[X + 2])) > prior else 0
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
@@ -180,9 +189,9 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
-    sums[26] = s[ALIN]
-    sums[27], sums[28], sums[29] = s[ARES], s[ARES + 1], s[ARES + 2]
     sums[25] = s[NMAG]
+    # the accelerometer's departure from the filtered vector (sums 26-29), summed in registers over a block
+    lin_t, lin_x, lin_y, lin_z = s[ALIN], s[ARES], s[ARES + 1], s[ARES + 2]
     tb = s[TB]
     sw, s1, s2 = s[EXS], s[EXS + 1], s[EXS + 2]
     # the rest detector's state: gyro mean, accelerometer mean, seconds at rest, gyro scatter, last accelerometer
@@ -214,9 +223,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
     bax, bay, baz = x[6], x[7], x[8]
     start = 0  # first sample of the current block in this chunk
+    n_seg = 0
     n = gyr.shape[0]
     for k in range(n):
-        dt = dts[k]
+        dt = dts[min(k, last)]
         flag = 0
         wx = gyr[k, 0]
         wy = gyr[k, 1]
@@ -260,10 +270,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             # the linear acceleration the filter is averaging out (the sample's departure from the filtered
             # vector), whose residual after the low-pass moves the correction as a bias error would
             if a_init < 0.0:  # low-passed at the block update (its cutoff is far below the block rate)
-                sums[26] += f_dt
-                sums[27] += (ix - mx) * f_dt
-                sums[28] += (iy - my) * f_dt
-                sums[29] += (iz - mz) * f_dt
+                lin_t += f_dt
+                lin_x += (ix - mx) * f_dt
+                lin_y += (iy - my) * f_dt
+                lin_z += (iz - mz) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
             cw, c1, c2 = tilt_to_z(mx, my, mz)
         else:
@@ -275,9 +285,16 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
         flags[k] = flag | at_limit
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
-            _sums(out, gyr, mag, use_mag, dts, start, k + 1, x, sums)
-            _heading(out, flags, start, k + 1, s[DELTA], s[DIST] > 0.0, use_mag)
-            _rest(gyr, acc, dts, start, k + 1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
+            sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
+            if use_mag:
+                _sums9(out, gyr, mag, dts, start, k + 1, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
+            else:
+                _sums(out, gyr, dts, start, k + 1, sums, squares)
+            _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
+            seg_end[n_seg] = k + 1
+            seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
+            seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
+            n_seg += 1
             rest, rr = rs[6], rs[11]
             start = k + 1
             # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
@@ -323,10 +340,19 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
+            lin_t = lin_x = lin_y = lin_z = 0.0
     # the unfinished block: its sums so far are kept in the state
-    _sums(out, gyr, mag, use_mag, dts, start, n, x, sums)
-    _heading(out, flags, start, n, s[DELTA], s[DIST] > 0.0, use_mag)
-    _rest(gyr, acc, dts, start, n, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2)
+    sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
+    if use_mag:
+        _sums9(out, gyr, mag, dts, start, n, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
+    else:
+        _sums(out, gyr, dts, start, n, sums, squares)
+    _rest(gyr, acc, dts, start, n, p, rs, flags, squares)
+    if start < n:
+        seg_end[n_seg] = n
+        seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
+        seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
+        n_seg += 1
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
     s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
@@ -349,29 +375,33 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, bias_out, sigma_out, flags):
     s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
+    return n_seg
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1, sg2):
-    """Rest detection over samples j0..j1-1 (module notes, step 4), and their bias, sigma and rest flag.
+def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
+    """Rest detection over samples j0..j1-1 (module notes, step 4), and their rest flag.
 
     Gyro and accelerometer close to their 0.5 s means for rest_time, the mean rate plausible as a bias.  Nothing
     in the per-sample recursion depends on it (the bias changes at block updates only), so it runs here, a loop
     of its own the processor can pipeline, rather than lengthening the recursion's.
     """
     rest_gyr2, rest_acc2, rest_time, rest_tau = p[8], p[9], p[10], p[11]
+    last = dts.shape[0] - 1
     rest_mean_max = REST_MEAN_FACTOR * p[12]
     rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
     rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
-    bx, by, bz = x[0], x[1], x[2]
+    acc2 = squares[1]
     for j in range(j0, j1):
-        dt = dts[j]
+        dt = dts[min(j, last)]
         if dt != last_dt:  # the coefficient changes only with the interval
             rr = 1.0 - math.exp(-dt / rest_tau)
             last_dt = dt
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
-        if acc[j, 0] == acc[j, 0]:  # a missing sample holds the last one
-            ax, ay, az = acc[j, 0], acc[j, 1], acc[j, 2]
+        a0, a1, a2 = acc[j, 0], acc[j, 1], acc[j, 2]
+        acc2 += a0 * a0 + a1 * a1 + a2 * a2  # NaN for a missing sample: the input checks then look closer
+        if a0 == a0:  # a missing sample holds the last one
+            ax, ay, az = a0, a1, a2
         rgx += rr * (wx - rgx)
         rgy += rr * (wy - rgy)
         rgz += rr * (wz - rgz)
@@ -389,29 +419,25 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, bias_out, sigma_out, flags, x, sg0, sg1,
             rest = 0.0
         if rest >= rest_time:
             flags[j] |= FLAG_REST
-        bias_out[j, 0] = bx
-        bias_out[j, 1] = by
-        bias_out[j, 2] = bz
-        sigma_out[j, 0] = sg0
-        sigma_out[j, 1] = sg1
-        sigma_out[j, 2] = sg2
     rs[0], rs[1], rs[2], rs[3], rs[4], rs[5] = rgx, rgy, rgz, rax, ray, raz
     rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12] = rest, rv, ax, ay, az, rr, last_dt
+    squares[1] = acc2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
-    """Add samples j0..j1-1 to the block sums, time-weighted.
+def _sums(out, gyr, dts, j0, j1, sums, squares):
+    """Add samples j0..j1-1 to the block sums, time-weighted (6D; 9D: _sums9).
 
-    The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|², and in 9D
-    the vertical row likewise and the field in the 6D frame.  The rows times the bias-and-scale correction are
-    formed at the block update from these.
+    The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|².  The rows
+    times the bias-and-scale correction are formed at the block update from these.
     """
+    last = dts.shape[0] - 1
     # continue the block's running sums in order, so that any chunking gives bit-identical sums
     u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
     u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
+    gyr2 = squares[0]
     for j in range(j0, j1):
-        dt = dts[j]
+        dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
         r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
@@ -432,52 +458,90 @@ def _sums(out, gyr, mag, use_mag, dts, j0, j1, x, sums):
         u9 += r10 * wx
         u10 += r11 * wy
         u11 += r12 * wz
-        w2 += (wx * wx + wy * wy + wz * wz) * dt
+        w = wx * wx + wy * wy + wz * wz
+        w2 += w * dt
+        gyr2 += w
     sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
     sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
-    if not use_mag:
-        return
-    v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
-    h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
-    for j in range(j0, j1):
-        mgx = mag[j, 0]
-        if mgx != mgx:  # no magnetometer sample
-            continue
-        dt = dts[j]
-        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
-        r20 = 2.0 * (qx * qz - qw * qy)
-        r21 = 2.0 * (qy * qz + qw * qx)
-        r22 = 1.0 - 2.0 * (qx * qx + qy * qy)
-        v0 += r20 * dt
-        v1 += r21 * dt
-        v2 += r22 * dt
-        v3 += r20 * gyr[j, 0] * dt
-        v4 += r21 * gyr[j, 1] * dt
-        v5 += r22 * gyr[j, 2] * dt
-        hx, hy, hz = rotate(qw, qx, qy, qz, mgx, mag[j, 1], mag[j, 2])
-        h0 += hx * dt
-        h1 += hy * dt
-        h2 += hz * dt
-        tm += dt
-    sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
-    sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
+    squares[0] = gyr2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _heading(out, flags, j0, j1, delta, disturbed, use_mag):
-    """9D: turn the 6D attitudes of samples j0..j1-1 by the heading offset, q = q_z(delta) ⊗ q_6D."""
-    if not use_mag:
-        return
+def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
+    """_sums in 9D, one loop: also the vertical row of R(q), the same times diag(omega), and the field.
+
+    For the samples with a field, the field in the 6D frame, R(q) m, is formed from the rows already at hand
+    (cheaper than a rotation by q).  A sample without a field counts with weight 0 (selects, not a branch, so
+    the loop stays one straight run).  Then the 6D attitude in ``out`` becomes the 9D one, turned by the heading
+    offset: q = q_z(delta) ⊗ q_6D, flagged while the field is disturbed.
+
+    The 6D part repeats _sums line for line: one loop with the 9D part behind a ``use_mag`` branch measured 3 %
+    slower in 6D (and changes 9D's rounding), so each mode has its straight loop.
+    """
+    last = dts.shape[0] - 1
     cd = math.cos(0.5 * delta)
     sd = math.sin(0.5 * delta)
+    u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
+    u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
+    v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
+    h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
+    gyr2, mag2 = squares[0], squares[2]
     for j in range(j0, j1):
+        dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
+        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
+        r01 = 2.0 * (qx * qy - qw * qz) * dt
+        r02 = 2.0 * (qx * qz + qw * qy) * dt
+        r10 = 2.0 * (qx * qy + qw * qz) * dt
+        r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
+        r12 = 2.0 * (qy * qz - qw * qx) * dt
+        u0 += r00
+        u1 += r01
+        u2 += r02
+        u3 += r10
+        u4 += r11
+        u5 += r12
+        u6 += r00 * wx
+        u7 += r01 * wy
+        u8 += r02 * wz
+        u9 += r10 * wx
+        u10 += r11 * wy
+        u11 += r12 * wz
+        w = wx * wx + wy * wy + wz * wz
+        w2 += w * dt
+        gyr2 += w
+        mx, my, mz = mag[j, 0], mag[j, 1], mag[j, 2]
+        mag2 += mx * mx + my * my + mz * mz  # NaN for a missing sample, as acc in _rest
+        present = mx == mx
+        dm = dt if present else 0.0
+        mx = mx if present else 0.0
+        my = my if present else 0.0
+        mz = mz if present else 0.0
+        r20 = 2.0 * (qx * qz - qw * qy) * dm
+        r21 = 2.0 * (qy * qz + qw * qx) * dm
+        r22 = (1.0 - 2.0 * (qx * qx + qy * qy)) * dm
+        v0 += r20
+        v1 += r21
+        v2 += r22
+        v3 += r20 * wx
+        v4 += r21 * wy
+        v5 += r22 * wz
+        h0 += r00 * mx + r01 * my + r02 * mz  # (R m) dt, its rows times dt at hand; 0 without a field
+        h1 += r10 * mx + r11 * my + r12 * mz
+        h2 += r20 * mx + r21 * my + r22 * mz
+        tm += dm
         out[j, 0] = cd * qw - sd * qz
         out[j, 1] = cd * qx - sd * qy
         out[j, 2] = cd * qy + sd * qx
         out[j, 3] = cd * qz + sd * qw
         if disturbed:
             flags[j] |= FLAG_MAG_DISTURBED
+    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
+    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
+    sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
+    sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
+    squares[0], squares[2] = gyr2, mag2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
@@ -548,7 +612,7 @@ def _block(
     g2 = s[AFO] ** 2 + s[AFO + 1] ** 2 + s[AFO + 2] ** 2
     r_acc = 0.0
     if accu[26] > 0.0 and g2 > 0.0:
-        ra = np.empty(3)
+        ra = tmp  # free until the Kalman updates below (no allocation per block)
         for i in range(3):
             v = accu[27 + i] / accu[26]
             y, s[RLV + i] = lowpass2_step(s[RLP + i], s[RLV + i], v, p00, p01, p10, p11)

@@ -32,6 +32,7 @@ __all__ = [
     "FLAG_REST",
     "Estimate",
     "Estimator",
+    "PiecewiseEstimate",
 ]
 
 FLAG_REST = 1  # rest detected: the gyro bias is being learnt from the raw gyro
@@ -115,23 +116,91 @@ class Estimate:
         return self._ypr[:, 2]
 
 
-def _sensor(v, name: str, missing: bool) -> np.ndarray:
-    """A (N, 3) sensor array; with ``missing``, whole NaN rows are allowed (no sample of that sensor then)."""
-    if not missing:
-        return _v.vectors(v, name, dtype=np.float64)
+class PiecewiseEstimate(Estimate):
+    """An Estimate whose bias and extra outputs are piecewise constant, expanded to one row per sample when read.
+
+    A filter whose bias changes at block updates only hands over one row per block: ``segments`` is
+    ``(ends, bias, extra)``, segment i covering samples ``ends[i-1]`` (0 for the first) to ``ends[i]`` with bias
+    row ``bias[i]`` and the rows ``extra[key][i]``.  Writing (and faulting in) per-sample copies costs a filter a
+    fifth of its throughput, and many callers never read them; to the caller this is an :class:`Estimate`.
+    """
+
+    def __init__(self, q, frame, bias=None, flags=None, extra=None, *, segments=None):
+        super().__init__(q=q, frame=frame, bias=bias, flags=flags, extra={} if extra is None else extra)
+        self._segments = segments
+
+    def _expand(self) -> None:
+        if self._segments is None:
+            return
+        ends, bias, extra = self._segments
+        self._segments = None
+        counts = np.diff(ends, prepend=0)
+        # contiguous rows: np.repeat copies them several times faster than strided ones
+        self._bias = np.repeat(np.ascontiguousarray(bias), counts, axis=0)
+        self._extra.update({k: np.repeat(np.ascontiguousarray(v), counts, axis=0) for k, v in extra.items()})
+
+    @property
+    def bias(self) -> np.ndarray | None:
+        self._expand()
+        return self._bias
+
+    @bias.setter
+    def bias(self, value) -> None:
+        self._bias = value
+
+    @property
+    def extra(self) -> dict:
+        self._expand()
+        return self._extra
+
+    @extra.setter
+    def extra(self, value) -> None:
+        self._extra = value
+
+
+def _sensor(v, name: str, missing: bool, check: bool = True) -> tuple[np.ndarray, float]:
+    """A (N, 3) sensor array, finite and within MAX_SAMPLE, and a bound of its largest |component|.
+
+    With ``missing``, whole NaN rows are allowed (no sample of that sensor then).  Without ``check``, only the
+    dtype and shape (and the bound is None).
+    """
     arr = _v.vectors(v, name, check=False, dtype=np.float64)
-    if np.isfinite(arr).all():  # the usual case, one pass
-        return arr
-    absent = np.isnan(arr).all(axis=-1)
-    bad = ~(np.isfinite(arr).all(axis=-1) | absent)
-    if bad.any():
-        i = _v.first_index(bad)
-        raise ValueError(f"{name}{i} is partly NaN or infinite; a row must be finite, or all NaN for no sample")
-    return arr
+    if not check:
+        return arr, None
+    if arr.size:
+        # The usual case in one pass: a sum of squares within (MAX_SAMPLE/2)² bounds every component, and a NaN
+        # or an infinity fails the comparison.  Its root bounds the largest component (for the step check).
+        # einsum, not a dot product: OpenBLAS's threads would spin on the cores the filter needs next; and no
+        # per-row maxima over the axis of length 3, which cost as much as the filter itself on long inputs.
+        flat = arr.reshape(-1)
+        squares = np.einsum("i,i->", flat, flat)
+        if squares <= (0.5 * MAX_SAMPLE) ** 2:
+            return arr, float(np.sqrt(squares))
+    if not missing:
+        _v.check_finite(arr, name)
+    elif not np.isfinite(arr).all():
+        absent = np.isnan(arr).all(axis=-1)
+        bad = ~(np.isfinite(arr).all(axis=-1) | absent)
+        if bad.any():
+            i = _v.first_index(bad)
+            raise ValueError(f"{name}{i} is partly NaN or infinite; a row must be finite, or all NaN for no sample")
+    _in_range(arr, name)
+    return arr, _largest(arr)
+
+
+def _largest(arr: np.ndarray) -> float:
+    """The largest |component| of an array, NaN ignored (0 when empty or all NaN)."""
+    if not arr.size:
+        return 0.0
+    flat = arr.reshape(-1)
+    big = max(np.fmax.reduce(flat), -np.fmin.reduce(flat))
+    return 0.0 if big != big else float(big)
 
 
 def _in_range(arr: np.ndarray, name: str) -> None:
     """Raise if a sample has a component beyond MAX_SAMPLE (NaN rows, "no sample", are skipped)."""
+    if _largest(arr) <= MAX_SAMPLE:
+        return
     with np.errstate(invalid="ignore"):
         big = np.abs(arr).max(axis=-1, initial=0.0) > MAX_SAMPLE
     if big.any():
@@ -143,25 +212,26 @@ def _in_range(arr: np.ndarray, name: str) -> None:
         )
 
 
-def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False):
-    g = _v.vectors(gyr, "gyr", dtype=np.float64)
-    a = _sensor(acc, "acc", missing)
-    _in_range(g, "gyr")
-    _in_range(a, "acc")
+def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False, check: bool = True):
+    """gyr, acc, mag checked and C-contiguous float64 (no copy when they are already), and a bound of |gyr|.
+
+    Without ``check``, the values are not looked at (only dtypes and shapes; the bound is None).
+    """
+    g, g_max = _sensor(gyr, "gyr", False, check)
+    a, _ = _sensor(acc, "acc", missing, check)
     if g.ndim != 2 or a.ndim != 2:
         raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
         raise ValueError(f"acc has {a.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
     m = None
     if mag is not None:
-        m = _sensor(mag, "mag", missing)
-        _in_range(m, "mag")
+        m, _ = _sensor(mag, "mag", missing, check)
         if m.shape != g.shape:
             raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
     elif need_mag:
         raise ValueError("this filter was created for magnetometer data (9D): give mag, or create it without")
-    return np.ascontiguousarray(g), np.ascontiguousarray(a), m
+    return np.ascontiguousarray(g), np.ascontiguousarray(a), m, g_max
 
 
 class Estimator:
@@ -187,6 +257,13 @@ class Estimator:
     _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
     _unit_keys: tuple[str, ...] = ("q",)
     _optional_keys: tuple[str, ...] = ()  # entries an older state may lack (the kernel call has a default)
+    # True: _run returns (estimate, sums of squares of gyr, acc and mag over the chunk), formed by the kernel as it
+    # reads the samples, and the samples are checked only if those are not within bounds (a pass over the input
+    # less; a bad chunk's results are thrown away and the state put back, as for a diverging one)
+    checks_in_kernel = False
+    # True: the kernels take a constant interval as two entries, the first sample's and the rest's (sample k's
+    # interval is dts[min(k, len(dts) - 1)]), instead of a per-sample array written and read only to repeat it
+    compact_intervals = False
 
     def __init__(self, params, *, q0=None, frame: str = "ENU"):
         self.params = params
@@ -253,7 +330,7 @@ class Estimator:
             if d.ndim == 0:
                 if not d > 0:
                     raise ValueError(f"dt must be positive, got {float(d)!r}")
-                return np.full(n, float(d))
+                return np.full(min(n, 2) if self.compact_intervals else n, float(d))
             if d.shape != (n,):
                 raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {d.shape}")
             if not (d > 0).all():
@@ -299,7 +376,10 @@ class Estimator:
         Estimate
             One attitude per sample, and the filter's extra outputs.
         """
-        g, a, m = _triads(gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples)
+        deferred = self.checks_in_kernel
+        g, a, m, g_max = _triads(
+            gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples, check=not deferred
+        )
         # what a diverging chunk puts back (the kernels update the state arrays in place)
         kept = None
         if self._state is not None:
@@ -309,21 +389,36 @@ class Estimator:
             raise ValueError("this filter was started without magnetometer data (6D): do not give mag now")
         n = g.shape[0]
         dts = self._dts(n, dt, t)
-        _check_steps(g, dts)
+        if not deferred:
+            _check_steps(g, dts, g_max)
         extra_in = self._prepare_inputs(n, **inputs)
         if self._state is None:
             if n == 0:
                 return float32_if(self._empty(), gyr, acc, mag)
             self._use_mag = m is not None
+            if deferred:  # the rows the initialisation reads are checked first
+                k = _first_present(a, "acc") + 1
+                _, _, _, g_start = _triads(g[:k], a[:k], None, False, self.missing_samples)
+                if m is not None:
+                    _sensor(m[:1], "mag", self.missing_samples)
+                _check_steps(g[:k], dts[:k], g_start)
             if self._q0 is None:
                 q_init = self._initial(g, a, m, dts, extra_in)
                 # the attitude from the first sample is the one at its end: its gyro reading has nothing left to do
-                dts = dts.copy()
+                if dt is not None and np.ndim(dt):  # the caller's intervals, perhaps their own array
+                    dts = dts.copy()
                 dts[0] = 0.0
             else:
                 q_init = multiply(self._to_in, self._q0)
             self._state = self._new_state(q_init / np.linalg.norm(q_init), g, a, m, dts, extra_in)
         out = self._run(g, a, m, dts, extra_in)
+        if deferred:
+            out, squares = out
+            try:
+                self._check_after(g, a, m, dts, squares)
+            except ValueError:
+                self._state, self._t_last, self._use_mag = saved
+                raise
         if n and not np.isfinite(out.q[-1]).all():
             # NaN propagates along the filter's chain, so the last attitude shows whether any sample diverged
             k = int(np.flatnonzero(~np.isfinite(out.q).all(axis=-1))[0])
@@ -337,6 +432,15 @@ class Estimator:
             out.q = multiply(self._to_out, out.q, check=False)
         out.frame = self.frame
         return float32_if(out, gyr, acc, mag)
+
+    def _check_after(self, g, a, m, dts, squares) -> None:
+        """checks_in_kernel: raise as the checks before the kernel would have (the sums tell when to look)."""
+        limit = (0.5 * MAX_SAMPLE) ** 2  # within it, every component is within MAX_SAMPLE; NaN fails the test
+        if all(v <= limit for v in squares[: 2 if m is None else 3]):
+            g_max = float(np.sqrt(squares[0]))
+        else:  # a bad sample, or rows without a sample (NaN): the full checks find which
+            _, _, _, g_max = _triads(g, a, m, bool(self._use_mag), self.missing_samples)
+        _check_steps(g, dts, g_max)
 
     def _empty(self) -> Estimate:
         # the same fields as a non-empty result, so that callers need no special case for an empty chunk
@@ -454,13 +558,22 @@ def float32_if(est: Estimate, *inputs) -> Estimate:
     return est
 
 
-def _check_steps(g: np.ndarray, dts: np.ndarray) -> None:
-    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE."""
+def _check_steps(g: np.ndarray, dts: np.ndarray, g_max: float) -> None:
+    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE.
+
+    ``g_max`` bounds every |gyr| component: that rate over the longest interval within bounds settles it.
+    """
+    if dts.size:
+        longest = dts.max()
+        if longest <= MAX_DT and g_max * longest <= MAX_STEP_ANGLE:
+            return
     if not (dts <= MAX_DT).all():
         k = int(np.flatnonzero(~(dts <= MAX_DT))[0])
         raise _v.SampleError(
             f"sample {k} lasts {dts[k]:.3g} s, beyond {MAX_DT:.0e} s; check the time unit of dt or t", k
         )
+    if len(dts) < len(g):  # compact intervals (Estimator.compact_intervals)
+        dts = np.concatenate([dts, np.full(len(g) - len(dts), dts[-1])])
     step = np.abs(g).max(axis=-1, initial=0.0) * dts
     if not (step <= MAX_STEP_ANGLE).all():
         k = int(np.flatnonzero(~(step <= MAX_STEP_ANGLE))[0])
@@ -480,7 +593,8 @@ def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarra
         return v
     from ..integrate import integrate
 
-    return rotate(integrate(gyr[1 : k + 1], dt=dts[1 : k + 1])[-1], v)
+    h = dts[1 : k + 1] if len(dts) > k else dts[-1]  # compact intervals: dts[-1] is every later one
+    return rotate(integrate(gyr[1 : k + 1], dt=h)[-1], v)
 
 
 def _first_present(arr: np.ndarray, name: str) -> int:

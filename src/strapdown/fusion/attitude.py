@@ -119,6 +119,7 @@ from ._base import (
     FLAG_MAG_REJECTED,
     Estimate,
     Estimator,
+    PiecewiseEstimate,
     _back_to_first_sample,
     _first_present,
     float32_if,
@@ -370,6 +371,8 @@ class AttitudeEstimator(Estimator):
     estimates_bias = True
     reports_flags = True
     missing_samples = True
+    compact_intervals = True
+    checks_in_kernel = True
     # state layout, checked when a state is restored (fusion/_base.py): the kernel indexes it without bounds checks
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
     _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
@@ -462,17 +465,22 @@ class AttitudeEstimator(Estimator):
             s[getattr(k, off) : getattr(k, off) + size] = st[name]
         P = np.ascontiguousarray(st["covariance"], dtype=np.float64).copy()
         out = np.empty((n, 4))
-        bias = np.empty((n, 3))
-        sigma = np.empty((n, 3))
         flags = np.empty(n, dtype=np.uint8)
+        # bias and sigma per block (pages of these buffers beyond the blocks written are never touched)
+        seg_end = np.empty(n + 1, dtype=np.int64)
+        seg_val = np.empty((n + 1, 6))
         m = mag if mag is not None else np.zeros((1, 3))
-        k.run(gyr, acc, m, mag is not None, dts, self.params._vector(), s, P, out, bias, sigma, flags)
+        squares = np.zeros(3)
+        p = self.params._vector()
+        n_seg = k.run(gyr, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
         for name, off, size in _LAYOUT:
             st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
         st["covariance"] = P
         if n:
             st["q"] = out[-1].copy()
-        return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})
+        vals = seg_val[:n_seg]
+        segments = (seg_end[:n_seg].copy(), vals[:, :3].copy(), {"bias_sigma": vals[:, 3:].copy()})
+        return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
 
 
 def attitude(

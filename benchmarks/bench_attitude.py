@@ -346,10 +346,7 @@ def irregular(trials) -> dict:
             nine = rmse_errors(attitude(g, a, m, **timing).q, truth, moving)["total"]
             six = rmse_errors(attitude(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
             off = rmse_errors(attitude_offline(g, a, m, **timing).q, truth, moving)
-            # the TiltEstimator takes no NaN rows
-            til = np.nan
-            if np.isfinite(a).all():
-                til = rmse_errors(tilt(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
+            til = rmse_errors(tilt(g, a, **timing).q, truth, moving, heading_offset=True)["inclination"]
             table.setdefault(label, []).append([nine, six, off["total"], off["inclination"], til])
     print(f"\nIrregular sampling on BROAD ({len(trials)} trials), mean RMSE (deg); in brackets: change from regular")
     print(f"{'':22}" + "".join(f"{c:>22}" for c in cols))
@@ -372,6 +369,8 @@ def irregular(trials) -> dict:
         f"  issue 13 goal: each AttitudeEstimator figure within 10 % of the regular one: worst {worst:+.1%}, "
         f"{'met' if worst <= 0.10 else 'MISSED'}"
     )
+    worst = max(np.mean(rows, axis=0)[4] / regular[4] - 1 for rows in table.values())
+    print(f"  the same for the TiltEstimator: worst {worst:+.1%}, {'met' if worst <= 0.10 else 'MISSED'}")
     return out
 
 

@@ -1,4 +1,4 @@
-"""A simulated test-bed for the AttitudeEstimator and VQF, side by side, condition by condition (issue 13).
+"""A simulated test-bed for the AttitudeEstimator, the TiltEstimator and VQF, side by side, per condition (issue 13).
 
     python benchmarks/bench_testbed.py [--seeds 3] [--json results.json]
 
@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from strapdown.fusion import attitude
+from strapdown.fusion import attitude, tilt
 from strapdown.metrics import attitude_errors
 from strapdown.simulate import (
     ClockModel,
@@ -167,6 +167,7 @@ def run_condition(make, seed: int) -> dict:
         "ours 6D": attitude(g, a, t=tr, params=params).q,
         "ours 9D": attitude(g, a, m, t=tr, params=params).q,
         "VQF 6D": VQF(dt).updateBatch(g, a)["quat6D"],
+        "Tilt 6D": tilt(g, a, t=tr).q,
         "VQF 9D": VQF(dt).updateBatch(g, a, m)["quat9D"],
     }
     scored = tr >= tr[0] + settle
@@ -191,11 +192,11 @@ def main(argv=None):
         print("vqf is not installed (pip install 'strapdown[bench]'): the test-bed compares against it")
         return 1
     t0 = time.perf_counter()
-    names = ("ours 6D", "VQF 6D", "ours 9D", "VQF 9D")
+    names = ("ours 6D", "VQF 6D", "Tilt 6D", "ours 9D", "VQF 9D")
     print(f"Simulated test-bed, RMSE in degrees (6D inclination, 9D total), mean of {args.seeds} seeds")
     print(f"{'condition':34}" + "".join(f"{n:>10}" for n in names) + "   better")
     results = {}
-    wins = {"6D": 0, "9D": 0}
+    wins = {"6D": 0, "9D": 0, "Tilt": 0}
     for label, make in conditions().items():
         per_seed = [run_condition(make, seed) for seed in range(args.seeds)]
         means = {n: float(np.mean([r[n] for r in per_seed])) for n in names}
@@ -204,10 +205,13 @@ def main(argv=None):
             ours, ref = means[f"ours {mode}"], means[f"VQF {mode}"]
             wins[mode] += ours < ref
             better.append(f"{mode}: {'ours' if ours < ref else 'VQF'}")
+        wins["Tilt"] += means["Tilt 6D"] < means["VQF 6D"]
+        better.append(f"Tilt: {'ours' if means['Tilt 6D'] < means['VQF 6D'] else 'VQF'}")
         print(f"{label:34}" + "".join(f"{means[n]:10.3f}" for n in names) + "   " + ", ".join(better))
         results[label] = means
     n = len(results)
     print(f"ours better in {wins['6D']}/{n} conditions in 6D and {wins['9D']}/{n} in 9D")
+    print(f"TiltEstimator better than VQF 6D in {wins['Tilt']}/{n} conditions")
     print(f"({time.perf_counter() - t0:.0f} s)")
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2))

@@ -27,7 +27,9 @@ ALP = 28  # 3: low-passed tilt-sensor vector (rest detection), sensor axes
 REST = 31  # 1: seconds at rest so far
 GPREV = 32  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 35  # 1: the nominal sample interval, s (0: none yet)
-SIZE = 36
+ATIME = 36  # 1: seconds since the last tilt-sensor sample the filter took (missing and gated rows add up)
+ALAST = 37  # 3: the last tilt-sensor sample present (the rest detector holds it through missing rows)
+SIZE = 40
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate is a bias (rest) up to this many bias_limit (as in the AttitudeEstimator)
 PRIOR_TIME = 36000.0  # s: the bias prior's pull towards zero (a Gauss-Markov correlation time, no clip); it leaves
@@ -86,12 +88,12 @@ def run(
     gated = acc_gate < math.inf
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     rest_mean_max = REST_MEAN_FACTOR * bias_limit
-    last_dt = -1.0
+    t_acc, hx, hy, hz = s[ATIME], s[ALAST], s[ALAST + 1], s[ALAST + 2]
+    last_dt = last_t_acc = -1.0
     p00 = p01 = p10 = p11 = r = f = keep = 0.0
     for k in range(gyr.shape[0]):
         dt = dts[k]
-        if dt != last_dt:  # the filter coefficients change only with the interval
-            p00, p01, p10, p11 = lowpass2(dt, tau_acc)
+        if dt != last_dt:  # the coefficients change only with the interval
             r = 1.0 - math.exp(-dt / REST_FILTER)
             f = 1.0 - math.exp(-dt / tau_rest_bias)
             keep = math.exp(-dt / PRIOR_TIME)
@@ -122,15 +124,24 @@ def run(
             b2 -= bz * inv_tau_bias
         pw, p1, p2 = cw, c1, c2
         # 2. the tilt sensor in the almost-inertial frame, low-passed over tau_acc (second-order Butterworth,
-        # stepped exactly over the interval: lowpass2)
+        # stepped exactly over the time since the last sample it took: lowpass2).  A missing sample (NaN row) or
+        # one the gate rejects holds the filter; the next one steps it over the whole time since, so a gap
+        # needs no restart.  (NaN fails a2 > 0.)
+        t_acc += dt
         a2 = ax * ax + ay * ay + az * az
         if a2 > 0.0 and (not gated or abs(math.sqrt(a2) - gravity) <= acc_gate):
+            if t_acc != last_t_acc:
+                p00, p01, p10, p11 = lowpass2(t_acc, tau_acc)
+                last_t_acc = t_acc
+            t_acc = 0.0
             ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
             m0, l0 = lowpass2_step(m0, l0, ix, p00, p01, p10, p11)
             m1, l1 = lowpass2_step(m1, l1, iy, p00, p01, p10, p11)
             m2, l2 = lowpass2_step(m2, l2, iz, p00, p01, p10, p11)
         else:
             flag |= FLAG_ACC_REJECTED
+        if ax == ax:
+            hx, hy, hz = ax, ay, az
         # 3. the correction q_c is the tilt quaternion that turns the filtered vector vertical (math.md §5.5): a
         # function of the filter state, not a recursion; the estimate is q_c ⊗ q_g
         cw, c1, c2 = tilt_to_z(m0, m1, m2)
@@ -142,11 +153,11 @@ def run(
         r0 += r * (wx - r0)
         r1 += r * (wy - r1)
         r2 += r * (wz - r2)
-        u0 += r * (ax - u0)
-        u1 += r * (ay - u1)
-        u2 += r * (az - u2)
+        u0 += r * (hx - u0)  # the last sample present
+        u1 += r * (hy - u1)
+        u2 += r * (hz - u2)
         dg = (wx - r0) ** 2 + (wy - r1) ** 2 + (wz - r2) ** 2
-        da = (ax - u0) ** 2 + (ay - u1) ** 2 + (az - u2) ** 2
+        da = (hx - u0) ** 2 + (hy - u1) ** 2 + (hz - u2) ** 2
         # a steady mean rate is a bias if the prior finds it plausible (within three bias_limit per axis)
         gm = max(abs(r0), abs(r1), abs(r2))
         if dg < rest_gyro * rest_gyro and da < rest_acc * rest_acc and gm < rest_mean_max:
@@ -188,3 +199,4 @@ def run(
     s[ALP], s[ALP + 1], s[ALP + 2] = u0, u1, u2
     s[REST] = rest
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
+    s[ATIME], s[ALAST], s[ALAST + 1], s[ALAST + 2] = t_acc, hx, hy, hz

@@ -36,6 +36,9 @@ accelerometer, or inclinometer angles):
    a real 4.5°/s bias is learnt instead of held at the limit.
 5. Irregular sampling: every coefficient is computed for its interval, and over an interval that holds lost
    rows the gyro rate is interpolated across the gap (as in the AttitudeEstimator, whose notes explain it).
+   A NaN row of ``acc`` (or ``pitch_roll``) means no tilt-sensor sample then (sensors at different rates): it
+   holds the filter, as a sample the gate rejects does (both flagged ``FLAG_ACC_REJECTED``), and the next
+   sample steps it over the whole time since; the rest detector holds the last sample present.
 
 Where the patent leaves the design open (its gains and rates were not retrieved, math.md §5.6), these choices
 are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule; 0.758° mean
@@ -52,7 +55,7 @@ import numpy as np
 from .. import _validate as _v
 from ..euler import from_euler
 from ..quaternion import rotate
-from ._base import GRAVITY, Estimate, Estimator, float32_if
+from ._base import GRAVITY, Estimate, Estimator, _back_to_first_sample, _first_present, float32_if
 
 __all__ = [
     "TiltEstimator",
@@ -350,9 +353,13 @@ class TiltEstimator(Estimator):
         ("rest_seconds", ()),
         ("gyro_previous", (3,)),
         ("nominal_interval", ()),
+        ("acc_interval", ()),
+        ("acc_previous", (3,)),
     )
     _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
-    _optional_keys = ("gyro_previous", "nominal_interval")  # states saved before these existed restore too
+    # states saved before these existed restore too
+    _optional_keys = ("gyro_previous", "nominal_interval", "acc_interval", "acc_previous")
+    missing_samples = True  # a NaN row of acc (or pitch_roll): no tilt-sensor sample then
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)
@@ -368,7 +375,7 @@ class TiltEstimator(Estimator):
         gyr : array_like, shape (N, 3)
             Angular rate, rad/s.
         acc : array_like, shape (N, 3), optional
-            Specific force, m/s²; or give ``pitch_roll``.
+            Specific force, m/s² (NaN rows: no sample); or give ``pitch_roll``.
         mag : None
             Not used: the tilt needs no magnetometer (given, it is an error).
         dt, t : optional
@@ -376,7 +383,7 @@ class TiltEstimator(Estimator):
         known_acc : array_like, shape (N, 3), optional
             Kinematic acceleration to subtract from ``acc``, sensor axes, m/s².
         pitch_roll : array_like, shape (N, 2), optional
-            Inclinometer pitch and roll instead of ``acc``.
+            Inclinometer pitch and roll instead of ``acc`` (NaN rows: no sample).
         degrees : bool
             ``pitch_roll`` in degrees.
 
@@ -394,14 +401,19 @@ class TiltEstimator(Estimator):
             raise ValueError(f"gyr must have shape (N, 3), got {gyr_arr.shape}")
         n = gyr_arr.shape[0]
         if pitch_roll is not None:
-            pr = _v.finite(pitch_roll, "pitch_roll", dtype=np.float64)
+            pr = _v.finite(pitch_roll, "pitch_roll", check=False, dtype=np.float64)
             if pr.shape != (n, 2):
                 raise ValueError(f"pitch_roll must have shape (N, 2) = ({n}, 2), got {pr.shape}")
-            q_pr = from_euler(np.column_stack([np.zeros(n), pr]), "ZYX", degrees)
+            absent = np.isnan(pr).all(axis=1)  # a NaN row: no inclinometer sample then
+            if not np.isfinite(pr[~absent]).all():
+                i = int(np.flatnonzero(~absent & ~np.isfinite(pr).all(axis=1))[0])
+                raise ValueError(f"pitch_roll[{i}] = {pr[i].tolist()}: a row must be finite, or all NaN for no sample")
+            q_pr = from_euler(np.column_stack([np.zeros(n), np.where(absent[:, None], 0.0, pr)]), "ZYX", degrees)
             up_out = rotate(self._to_out, [0.0, 0.0, 1.0])  # the frame's "up" ("ENU": z; "NED": -z)
             acc_arr = GRAVITY * rotate(q_pr * [1.0, -1.0, -1.0, -1.0], np.broadcast_to(up_out, (n, 3)))
+            acc_arr[absent] = np.nan
         else:
-            acc_arr = _v.vectors(acc, "acc", dtype=np.float64)
+            acc_arr = _v.vectors(acc, "acc", check=False, dtype=np.float64)  # NaN rows: no sample (checked later)
             if known_acc is not None:
                 known = _v.vectors(known_acc, "known_acc", dtype=np.float64)
                 if known.shape != acc_arr.shape:
@@ -411,7 +423,10 @@ class TiltEstimator(Estimator):
         return float32_if(est, gyr, pitch_roll if acc is None else acc)
 
     def _new_state(self, q, gyr, acc, mag, dts, extra_in):
-        a_i = rotate(q, acc[0])
+        # the first tilt-sensor sample present, turned back to the axes of the first sample (q's)
+        k = _first_present(acc, "acc")
+        a0 = _back_to_first_sample(gyr, dts, k, acc[k])
+        a_i = rotate(q, a0)
         return {
             "q": q.copy(),  # the estimate q_c ⊗ q_g
             "q_gyro": q.copy(),  # q_g: sensor -> almost-inertial frame
@@ -419,10 +434,12 @@ class TiltEstimator(Estimator):
             "q_correction_previous": np.array([1.0, 0.0, 0.0, 0.0]),  # q_c one sample earlier (drift loop)
             "bias": self._bias0.copy(),
             "acc_filter": np.array([np.zeros(3), a_i]),  # the low-pass's rate and output, almost-inertial frame
-            "rest_filter": np.concatenate([np.zeros(3), acc[0]]),  # 0.5 s means of gyro and tilt sensor
+            "rest_filter": np.concatenate([np.zeros(3), a0]),  # 0.5 s means of gyro and tilt sensor
             "rest_seconds": 0.0,
             "gyro_previous": np.zeros(3),  # the last gyro sample, rad/s (rate interpolation across lost rows)
             "nominal_interval": 0.0,  # s, the shortest recent sample interval (0: none yet)
+            "acc_interval": 0.0,  # s since the last tilt-sensor sample the filter took
+            "acc_previous": a0.copy(),  # the last tilt-sensor sample present (rest detection)
         }
 
     @property
@@ -451,6 +468,8 @@ class TiltEstimator(Estimator):
                 [st["rest_seconds"]],
                 st.get("gyro_previous", np.zeros(3)),  # states saved before these existed restore too
                 [st.get("nominal_interval", 0.0)],
+                [st.get("acc_interval", 0.0)],
+                st.get("acc_previous", st["rest_filter"][3:]),
             ]
         )
         k.run(
@@ -480,6 +499,8 @@ class TiltEstimator(Estimator):
         st["rest_seconds"] = float(s[k.REST])
         st["gyro_previous"] = s[k.GPREV : k.GPREV + 3].copy()
         st["nominal_interval"] = float(s[k.NOMDT])
+        st["acc_interval"] = float(s[k.ATIME])
+        st["acc_previous"] = s[k.ALAST : k.ALAST + 3].copy()
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
 
 
@@ -504,7 +525,7 @@ def tilt(
     gyr : array_like, shape (N, 3)
         Angular rate, rad/s.
     acc : array_like, shape (N, 3), optional
-        Specific force, m/s²; or ``pitch_roll``.
+        Specific force, m/s² (NaN rows: no sample); or ``pitch_roll``.
     dt, t : optional
         Seconds per sample, or sample times.
     params : TiltParams, optional

@@ -150,13 +150,13 @@ def converged_after(bias, true, rel=0.01):
 
 
 def test_horizontal_bias_converges_vertical_is_unobservable():
-    # rocking in place: the patent's drift loop alone (never at rest); tau_bias = 30 s
+    # rocking in place: the patent's drift loop alone (never at rest), defaults (tau_bias = 100 s)
     data = platform(300.0, driving=False)
-    est = tilt(data.gyro, data.acc, dt=0.01, params=TiltParams(tau_bias=30.0))
+    est = tilt(data.gyro, data.acc, dt=0.01)
     assert not (est.flags & FLAG_REST).any()
     k = converged_after(est.bias[:, :2], BIAS)
-    assert k < 5 * 30 * 100  # within 1 % on both horizontal axes after < 5 tau_bias (measured: 132 s)
-    assert abs(est.bias[-1, 2]) < 0.1 * BIAS  # vertical: not learnt in motion
+    assert k < 3 * 100 * 100  # within 1 % on both horizontal axes after < 3 tau_bias (measured: 269 s)
+    assert np.abs(est.bias[:, 2]).max() < 0.1 * BIAS  # vertical: not learnt in motion (measured 0.05)
     e = attitude_errors(est.q, data.q_true[1:])["inclination"]
     assert np.degrees(np.abs(e[k:])).max() < 0.3
 
@@ -165,10 +165,9 @@ def test_driving_needs_the_known_acceleration():
     # driving and turning: the centripetal and speed-change accelerations bias the tilt unless subtracted
     data = platform(400.0, driving=True)
     known = kinematic_acceleration(data)
-    p = TiltParams(tau_bias=30.0)
-    with_known = tilt(data.gyro, data.acc, dt=0.01, params=p, known_acc=known)
-    without = tilt(data.gyro, data.acc, dt=0.01, params=p)
-    assert converged_after(with_known.bias[:, :2], BIAS) < 10 * 30 * 100  # measured: 265 s
+    with_known = tilt(data.gyro, data.acc, dt=0.01, known_acc=known)
+    without = tilt(data.gyro, data.acc, dt=0.01)
+    assert converged_after(with_known.bias[:, :2], BIAS) < 4 * 100 * 100  # measured: 378 s
     half = slice(20000, None)
     incl_known = np.degrees(attitude_errors(with_known.q[half], data.q_true[1:][half])["inclination"])
     incl_without = np.degrees(attitude_errors(without.q[half], data.q_true[1:][half])["inclination"])
@@ -329,7 +328,10 @@ def test_nan_rows_hold_the_filter():
     # and the inclination error within 10 % of the complete record's (issue 13; the filter steps over each gap)
     from strapdown.simulate import RandomMotion
 
-    data = sample(RandomMotion(duration=120.0, seed=4), 100.0, gyro="average", imu=ImuModel.consumer_mems(), seed=4)
+    imu = ImuModel.consumer_mems()
+    data = sample(
+        RandomMotion(duration=120.0, seed=4), 100.0, gyro="average", imu=imu, seed=4, reference="ENU", body="FLU"
+    )
     acc = data.acc.copy()
     gone = np.random.default_rng(5).random(len(acc)) < 0.1
     gone[0] = False
@@ -344,6 +346,7 @@ def test_nan_rows_hold_the_filter():
         return np.sqrt(np.mean(attitude_errors(est.q[late], data.q_true[1:][late])["inclination"] ** 2))
 
     assert rms(holed) == pytest.approx(rms(full), rel=0.1)
+    assert np.degrees(rms(full)) < 4.0  # the scale of it (measured 2.47°, with 10 % NaN 2.48°)
     # a NaN first row: the first sample present initialises the tilt
     acc[0] = np.nan
     first = tilt(data.gyro, acc, dt=0.01)
@@ -364,3 +367,48 @@ def test_nan_inclinometer_rows_and_partial_rows():
     acc[7, 2] = np.nan
     with pytest.raises(ValueError, match=r"acc\[7\] is partly NaN"):
         tilt(np.zeros((n, 3)), acc, dt=0.01)
+
+
+def test_on_a_turntable_the_horizontal_bias_is_learnt_through_the_filter_lag():
+    # 30°/s about the vertical: within the low-pass's lag (~tau_acc) the body turns by ~90°, so feeding the
+    # correction back through the current attitude sends it to the wrong axis; the regressor run through the
+    # same low-pass (module notes, 4) learns the two horizontal components anyway
+    from strapdown.simulate import ConstantRotation
+
+    bias = np.radians([0.6, -0.8, 0.0])
+    data = sample(
+        ConstantRotation(np.radians([0.0, 0.0, 30.0]), duration=600.0),
+        100.0,
+        gyro="average",
+        imu=ImuModel(gyro=TriadModel(bias=bias)),
+        reference="ENU",
+        body="FLU",
+    )
+    est = tilt(data.gyro, data.acc, dt=0.01)
+    # within 2 % after 6 tau_bias (measured 0.8 %; VQF 0.5 %, its regression is the same)
+    np.testing.assert_allclose(est.bias[-1000:, :2].mean(axis=0), bias[:2], atol=0.02 * np.abs(bias).max())
+    e = np.degrees(attitude_errors(est.q[-6000:], data.q_true[1:][-6000:])["inclination"])
+    assert e.max() < 0.1
+
+
+def test_a_state_saved_before_the_kalman_drift_loop_restores():
+    # the keys added since (bias covariance, drift-loop filter, block, start, missing-sample bookkeeping) take
+    # defaults: the restored filter carries on within a small fraction of the uninterrupted one
+    data = platform(60.0, driving=True)
+    whole = tilt(data.gyro, data.acc, dt=0.01)
+    f = TiltEstimator()
+    f.update(data.gyro[:3000], data.acc[:3000], dt=0.01)
+    saved = f.state
+    for key in ("bias_covariance", "drift_filter", "block_seconds", "acc_start", "acc_interval", "acc_previous"):
+        del saved[key]
+    g = TiltEstimator()
+    g.state = saved
+    rest = g.update(data.gyro[3000:], data.acc[3000:], dt=0.01)
+    assert np.isfinite(rest.q).all()
+    # the covariance restarts at bias_sigma_init, so the bias is relearnt: the inclination stays as good as the
+    # uninterrupted filter's (driving without the known acceleration: ~1° either way)
+
+    def rms(q):
+        return np.degrees(np.sqrt(np.mean(attitude_errors(q, data.q_true[1:][3000:])["inclination"] ** 2)))
+
+    assert rms(rest.q) < 1.2 * rms(whole.q[3000:])

@@ -12,12 +12,12 @@ import math
 import numba as nb
 
 from ._base import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
-from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, rotate_back, tilt_to_z, unit_rotvec
+from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, tilt_to_z, unit_rotvec
 
 # state vector layout (one float64 array, so that get/set and chunking are trivial)
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
 QC = 4  # 4: tilt correction, I -> reference (yaw-free; its k part is 0)
-QCP = 8  # 4: the correction one sample earlier (for the drift loop's pending update)
+QCP = 8  # 4: the correction at the start of the drift loop's block
 Q = 12  # 4: the estimate q_c ⊗ q_g of the last sample
 BIAS = 16  # 3: gyro bias estimate, sensor axes, rad/s
 LP1 = 19  # 3: the low-pass filter's rate (lowpass2) for the tilt-sensor vector in I
@@ -29,13 +29,44 @@ GPREV = 32  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 35  # 1: the nominal sample interval, s (0: none yet)
 ATIME = 36  # 1: seconds since the last tilt-sensor sample the filter took (missing and gated rows add up)
 ALAST = 37  # 3: the last tilt-sensor sample present (the rest detector holds it through missing rows)
-SIZE = 40
+COV = 40  # 6: the bias covariance P00 P01 P02 P11 P12 P22, (rad/s)²
+DRIFT = 46  # 16: the drift loop's low-pass of R's horizontal rows and of R b: 8 rates, then 8 outputs
+BLOCK = 62  # 1: seconds into the drift loop's block
+START = 63  # 5: the start's plain mean: seconds so far (-1: over), sum of the samples in I (3), their count
+SIZE = 68
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate is a bias (rest) up to this many bias_limit (as in the AttitudeEstimator)
 PRIOR_TIME = 36000.0  # s: the bias prior's pull towards zero (a Gauss-Markov correlation time, no clip); it leaves
 # a learnt bias short by tau_bias / PRIOR_TIME of itself (0.3 % for the default 100 s)
 
 REST_FILTER = 0.5  # s: time constant of the rest detector's low-pass filters
+BLOCK_TIME = 0.05  # s: the drift loop's update interval; its low-pass (tau_acc ~ 3 s) is far slower
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def kalman1(p00, p01, p02, p11, p12, p22, b0, b1, b2, h0, h1, h2, y, w, clip):
+    """Kalman update of the bias b (covariance P) by one scalar measurement y = h·b + noise of variance w.
+
+    The innovation is clipped to ±clip.  Several measurements with independent noise, taken one after the other
+    (each against the updated b), are the same as one update by all of them.
+    """
+    u0 = p00 * h0 + p01 * h1 + p02 * h2  # P h
+    u1 = p01 * h0 + p11 * h1 + p12 * h2
+    u2 = p02 * h0 + p12 * h1 + p22 * h2
+    g = 1.0 / (h0 * u0 + h1 * u1 + h2 * u2 + w)
+    e = min(max(y - (h0 * b0 + h1 * b1 + h2 * b2), -clip), clip)
+    k0, k1, k2 = u0 * g, u1 * g, u2 * g
+    return (
+        p00 - k0 * u0,
+        p01 - k0 * u1,
+        p02 - k0 * u2,
+        p11 - k1 * u1,
+        p12 - k1 * u2,
+        p22 - k2 * u2,
+        b0 + k0 * e,
+        b1 + k1 * e,
+        b2 + k2 * e,
+    )
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
@@ -50,6 +81,8 @@ def run(
     tau_rest_bias,
     tau_bias,
     bias_limit,
+    bias_noise,
+    acc_bias_sigma,
     gravity,
     acc_gate,
     to_out,
@@ -62,19 +95,16 @@ def run(
     """The TiltEstimator, sample by sample (module notes of tilt.py); s is the state vector, updated in place.
 
     up[k] is the tilt-sensor vector in sensor axes: the accelerometer minus any known kinematic acceleration, or
-    g times the up direction given by an inclinometer.  Flag 8 marks an output attitude ``to_out ⊗ q`` within
-    ``inverted_tol`` of upside down, where the tilt chart of its frame is singular.
+    g times the up direction given by an inclinometer (NaN: no sample).  Flag 8 marks an output attitude
+    ``to_out ⊗ q`` within ``inverted_tol`` of upside down, where the tilt chart of its frame is singular.
 
-    Speed: one sample's work is a long chain of dependent operations (gyro step, rotation into I, filter, tilt,
-    drift loop), too long for the processor to overlap consecutive samples by itself.  The drift loop therefore
-    runs one sample late: sample k first applies the update owed by sample k-1, which depends on nothing of
-    sample k, so it executes alongside sample k's chain.  A delay of one sample (1/fs) in a loop of time
-    constant tau_bias changes nothing measurable; it makes the filter 1.6 times faster.  The state lives in
-    local variables (registers) inside the loop and goes back to s at the end.
+    Speed: the bias changes only at the drift loop's block updates (every BLOCK_TIME s), so the per-sample chain
+    (gyro step, rotation into I, filter, tilt) carries no bias arithmetic.  The state lives in local variables
+    (registers) inside the loop and goes back to s at the end.
     """
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]  # q_g
     cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]  # q_c
-    pw, p1, p2 = s[QCP], s[QCP + 1], s[QCP + 2]  # q_c one sample earlier
+    pw, p1, p2 = s[QCP], s[QCP + 1], s[QCP + 2]  # q_c at the block's start
     qw, qx, qy, qz = s[Q], s[Q + 1], s[Q + 2], s[Q + 3]
     b0, b1, b2 = s[BIAS], s[BIAS + 1], s[BIAS + 2]
     l0, l1, l2 = s[LP1], s[LP1 + 1], s[LP1 + 2]
@@ -82,21 +112,27 @@ def run(
     r0, r1, r2 = s[GLP], s[GLP + 1], s[GLP + 2]  # gyro mean (rest detection)
     u0, u1, u2 = s[ALP], s[ALP + 1], s[ALP + 2]  # tilt-sensor mean (rest detection)
     rest = s[REST]
-    inv_tau_bias = 1.0 / tau_bias if tau_bias > 0.0 else 0.0
+    P00, P01, P02, P11, P12, P22 = s[COV], s[COV + 1], s[COV + 2], s[COV + 3], s[COV + 4], s[COV + 5]
+    d = s[DRIFT : DRIFT + 16].copy()  # rates 0-7, outputs 8-15: R00 R01 R02 R10 R11 R12 (R b)0 (R b)1
+    blk = s[BLOCK]
+    a_init, asx, asy, asz, a_cnt = s[START], s[START + 1], s[START + 2], s[START + 3], s[START + 4]
     fw, fx, fy, fz = to_out[0], to_out[1], to_out[2], to_out[3]
     tol2 = inverted_tol * inverted_tol
     gated = acc_gate < math.inf
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     rest_mean_max = REST_MEAN_FACTOR * bias_limit
     t_acc, hx, hy, hz = s[ATIME], s[ALAST], s[ALAST + 1], s[ALAST + 2]
-    last_dt = last_t_acc = -1.0
-    p00 = p01 = p10 = p11 = r = f = keep = 0.0
+    q_noise = bias_noise * bias_noise  # (rad/s)²/s: the bias random walk
+    motion_density = (tau_bias * bias_noise) ** 2  # (rad/s)² s: steady-state time constant tau_bias in motion
+    rest_density = (tau_rest_bias * bias_noise) ** 2  # likewise tau_rest_bias at rest
+    acc_bias_density = tau_acc * (acc_bias_sigma / gravity) ** 2  # s: times |dLP[R]/dt|² (module notes, 4)
+    last_dt = last_t_acc = last_blk = -1.0
+    p00 = p01 = p10 = p11 = r = 0.0
+    d00 = d01 = d10 = d11 = keep = 0.0
     for k in range(gyr.shape[0]):
         dt = dts[k]
-        if dt != last_dt:  # the coefficients change only with the interval
+        if dt != last_dt:  # the coefficient changes only with the interval
             r = 1.0 - math.exp(-dt / REST_FILTER)
-            f = 1.0 - math.exp(-dt / tau_rest_bias)
-            keep = math.exp(-dt / PRIOR_TIME)
             last_dt = dt
         flag = 0
         wx = gyr[k, 0]
@@ -109,20 +145,6 @@ def run(
         # rate interpolated across the gap (gap_step in _kernels_numba.py)
         ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
         gw, gx, gy, gz = right_step(gw, gx, gy, gz, (ox - b0) * dt, (oy - b1) * dt, (oz - b2) * dt)
-        # 4. (of sample k-1) bias in motion, the patent's drift loop: in steady state the correction turns at the
-        # rate of the bias error, so its last increment q_c ⊗ q_c,previous* (horizontal in the reference frame),
-        # taken to body axes, is fed back with time constant tau_bias
-        if tau_bias > 0.0:
-            hw = cw * pw + c1 * p1 + c2 * p2  # q_c ⊗ q_c,previous*, both tilt quaternions
-            h1 = c1 * pw - cw * p1
-            h2 = c2 * pw - cw * p2
-            h3 = c2 * p1 - c1 * p2
-            ex, ey, _ = unit_rotvec(hw, h1, h2, h3)
-            bx, by, bz = rotate_back(qw, qx, qy, qz, ex, ey, 0.0)
-            b0 -= bx * inv_tau_bias
-            b1 -= by * inv_tau_bias
-            b2 -= bz * inv_tau_bias
-        pw, p1, p2 = cw, c1, c2
         # 2. the tilt sensor in the almost-inertial frame, low-passed over tau_acc (second-order Butterworth,
         # stepped exactly over the time since the last sample it took: lowpass2).  A missing sample (NaN row) or
         # one the gate rejects holds the filter; the next one steps it over the whole time since, so a gap
@@ -133,11 +155,25 @@ def run(
             if t_acc != last_t_acc:
                 p00, p01, p10, p11 = lowpass2(t_acc, tau_acc)
                 last_t_acc = t_acc
-            t_acc = 0.0
             ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
-            m0, l0 = lowpass2_step(m0, l0, ix, p00, p01, p10, p11)
-            m1, l1 = lowpass2_step(m1, l1, iy, p00, p01, p10, p11)
-            m2, l2 = lowpass2_step(m2, l2, iz, p00, p01, p10, p11)
+            if a_init >= 0.0:
+                # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
+                # in I (as VQF and the AttitudeEstimator start theirs): a low-pass started at the first sample
+                # would carry that sample's linear acceleration for several tau_acc.
+                asx += ix
+                asy += iy
+                asz += iz
+                a_cnt += 1.0
+                m0, m1, m2 = asx / a_cnt, asy / a_cnt, asz / a_cnt
+                a_init += t_acc
+                if a_init >= tau_acc * (1.0 - 1e-9):  # hand over to the filter, in steady state at the mean
+                    a_init = -1.0
+                    l0 = l1 = l2 = 0.0
+            else:
+                m0, l0 = lowpass2_step(m0, l0, ix, p00, p01, p10, p11)
+                m1, l1 = lowpass2_step(m1, l1, iy, p00, p01, p10, p11)
+                m2, l2 = lowpass2_step(m2, l2, iz, p00, p01, p10, p11)
+            t_acc = 0.0
         else:
             flag |= FLAG_ACC_REJECTED
         if ax == ax:
@@ -149,7 +185,7 @@ def run(
         qx = cw * gx + c1 * gw + c2 * gz
         qy = cw * gy - c1 * gz + c2 * gw
         qz = cw * gz + c1 * gy - c2 * gx
-        # 5. bias at rest: the low-passed gyro, once gyro and tilt sensor have been steady for rest_time
+        # 5. rest: gyro and tilt sensor close to their 0.5 s means for rest_time
         r0 += r * (wx - r0)
         r1 += r * (wy - r1)
         r2 += r * (wz - r2)
@@ -164,16 +200,82 @@ def run(
             rest += dt
         else:
             rest = 0.0
-        if rest >= rest_time:
+        at_rest = rest >= rest_time
+        if at_rest:
             flag |= FLAG_REST
-            b0 += f * (r0 - b0)
-            b1 += f * (r1 - b1)
-            b2 += f * (r2 - b2)
-        # the bias prior instead of a clip: a pull towards zero over PRIOR_TIME (a Gauss-Markov bias), far slower
-        # than either way of learning it, so a large bias the data show is learnt; beyond bias_limit it is flagged
-        b0 *= keep
-        b1 *= keep
-        b2 *= keep
+        # 4. the drift loop, a Kalman filter of the bias updated every BLOCK_TIME (module notes, 4)
+        blk += dt
+        if blk >= BLOCK_TIME:
+            if blk != last_blk:
+                d00, d01, d10, d11 = lowpass2(blk, tau_acc)
+                keep = math.exp(-blk / PRIOR_TIME)
+                last_blk = blk
+            # the bias prior instead of a clip: a Gauss-Markov bias, pulled towards zero over PRIOR_TIME
+            b0 *= keep
+            b1 *= keep
+            b2 *= keep
+            kk = keep * keep
+            qn = q_noise * blk
+            P00 = P00 * kk + qn
+            P01 *= kk
+            P02 *= kk
+            P11 = P11 * kk + qn
+            P12 *= kk
+            P22 = P22 * kk + qn
+            # the horizontal rows of R(q) and R b, through the tilt sensor's low-pass (so lagged alike)
+            x0 = 1.0 - 2.0 * (qy * qy + qz * qz)
+            x1 = 2.0 * (qx * qy - qw * qz)
+            x2 = 2.0 * (qx * qz + qw * qy)
+            x3 = 2.0 * (qx * qy + qw * qz)
+            x4 = 1.0 - 2.0 * (qx * qx + qz * qz)
+            x5 = 2.0 * (qy * qz - qw * qx)
+            x6 = x0 * b0 + x1 * b1 + x2 * b2
+            x7 = x3 * b0 + x4 * b1 + x5 * b2
+            xs = (x0, x1, x2, x3, x4, x5, x6, x7)
+            if a_init >= 0.0:
+                # during the start the tilt sensor's filter is a plain mean, so is this one (time-weighted over
+                # the blocks so far); it hands over in steady state, as that one does
+                wm = blk / max(a_init, blk)
+                for j in range(8):
+                    d[8 + j] += wm * (xs[j] - d[8 + j])
+                    d[j] = 0.0
+            else:
+                for j in range(8):
+                    d[8 + j], d[j] = lowpass2_step(d[8 + j], d[j], xs[j], d00, d01, d10, d11)
+            if at_rest:
+                # the 0.5 s gyro mean measures the bias on every axis
+                w = rest_density / blk
+                inf = math.inf
+                P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, 1.0, 0.0, 0.0, r0, w, inf
+                )
+                P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, 0.0, 1.0, 0.0, r1, w, inf
+                )
+                P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, 0.0, 0.0, 1.0, r2, w, inf
+                )
+            elif tau_bias > 0.0:
+                # in motion, the patent's drift loop: a bias error turns the almost-inertial frame, and the
+                # correction turns with it, lagged by the filter: its mean rate over the block (reference frame,
+                # horizontal) is -LP[R (b - b̂)], so y = -rate + LP[R b̂] measures LP[R] b (VQF's regression)
+                hw = cw * pw + c1 * p1 + c2 * p2  # q_c ⊗ q_c,start*, both tilt quaternions
+                h1 = c1 * pw - cw * p1
+                h2 = c2 * pw - cw * p2
+                h3 = c2 * p1 - c1 * p2
+                ex, ey, _ = unit_rotvec(hw, h1, h2, h3)
+                # noise: a base density (tau_bias) and the correction an accelerometer bias makes while the
+                # body turns, |dLP[R]/dt| acc_bias_sigma / g, coloured over tau_acc (module notes, 4)
+                rr = d[0] ** 2 + d[1] ** 2 + d[2] ** 2 + d[3] ** 2 + d[4] ** 2 + d[5] ** 2
+                w = (motion_density + acc_bias_density * rr) / blk
+                P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, d[8], d[9], d[10], d[14] - ex / blk, w, bias_limit
+                )
+                P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, d[11], d[12], d[13], d[15] - ey / blk, w, bias_limit
+                )
+            pw, p1, p2 = cw, c1, c2
+            blk = 0.0
         if max(abs(b0), abs(b1), abs(b2)) > bias_limit:
             flag |= FLAG_BIAS_AT_LIMIT
         out[k, 0] = qw
@@ -200,3 +302,7 @@ def run(
     s[REST] = rest
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
     s[ATIME], s[ALAST], s[ALAST + 1], s[ALAST + 2] = t_acc, hx, hy, hz
+    s[COV], s[COV + 1], s[COV + 2], s[COV + 3], s[COV + 4], s[COV + 5] = P00, P01, P02, P11, P12, P22
+    s[DRIFT : DRIFT + 16] = d
+    s[BLOCK] = blk
+    s[START], s[START + 1], s[START + 2], s[START + 3], s[START + 4] = a_init, asx, asy, asz, a_cnt

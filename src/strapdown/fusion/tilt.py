@@ -19,21 +19,35 @@ accelerometer, or inclinometer angles):
 2. The tilt-sensor vector (accelerometer minus any known kinematic acceleration) is rotated into that frame
    and low-passed over ``tau_acc`` seconds by a second-order Butterworth filter stepped exactly over each
    interval (``lowpass2``; it replaced two first-order stages, whose slower roll-off let more acceleration
-   through: BROAD 0.80° -> 0.76°).  There, linear acceleration averages out (velocity stays bounded)
-   while gravity does not.  This is the idea of VQF (Laidig & Seel, Information Fusion 2023), and it is what
-   makes the tilt survive sustained accelerations that defeat a proportional loop on the raw accelerometer.
+   through: BROAD 0.80° -> 0.76°).  There, linear acceleration averages out (velocity stays bounded) while
+   gravity does not.  This is the idea of VQF (Laidig & Seel, Information Fusion 2023), and it is what makes
+   the tilt survive sustained accelerations that defeat a proportional loop on the raw accelerometer.  For
+   the first ``tau_acc`` seconds the output is the plain mean of the samples instead (VQF's start): a filter
+   started at the first sample would carry that sample's linear acceleration for several tau_acc (simulated
+   start at 2 m/s²: 3.2° -> 2.6°).
 3. ``q_c`` is the tilt quaternion that turns the filtered vector vertical (math.md §5.5: the patent's tilt
    sensor -> tilt quaternion, applied to the filtered vector).  The estimate is ``q_c ⊗ q_g``, reported as its
    tilt quaternion, pitch and roll; its heading is the gyro's and drifts, unobservable without a heading
    reference.
-4. The gyro bias is learnt two ways.  At rest (gyro and tilt sensor steady for ``rest_time``) it follows the
-   low-passed raw gyro on all three axes.  In motion, the patent's drift loop: when the bias estimate is off,
-   the almost-inertial frame turns and the correction ``q_c`` has to turn with it at the rate of the error, so
-   the correction rate, taken to body axes, is fed back with time constant ``tau_bias``.  That rate has no
-   component about the vertical, so in motion only the two horizontal components of the bias are observable;
-   the vertical one is learnt only at rest.  ``bias_limit`` is a prior's bound, not a clip: the estimate leaks
-   towards zero over ten hours (a Gauss-Markov bias) and is flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so
-   a real 4.5°/s bias is learnt instead of held at the limit.
+4. The gyro bias is learnt by a Kalman filter (state b, covariance P; a random walk of ``bias_noise`` and
+   a start of ``bias_sigma_init``), updated every 0.05 s from one of two measurements.  At rest (gyro and
+   tilt sensor steady for ``rest_time``) the 0.5 s gyro mean measures b on all three axes.  In motion, the
+   patent's drift loop: when the bias estimate is off by δb, the almost-inertial frame turns at R δb
+   (reference axes, R the attitude's matrix) and the correction q_c turns with it, through the tilt sensor's
+   low-pass: its mean rate over the block is -LP[R δb], horizontal.  So y = -rate + LP[R b̂] measures
+   LP[R] b, with LP[R]'s two horizontal rows as the regressor (VQF's regression, Laidig & Seel 2023): R
+   and R b̂ are run through the same low-pass as the tilt sensor, so the filter's lag is modelled.  (The
+   patent's loop as first built fed the rate back through the current R, which is wrong by the rotation
+   during the lag: on a 30°/s turntable it learnt nothing, 2.8° against VQF's 1.0°; and its fixed gain was
+   slow from the start: 8.5° against 6.5° with a 5°/s bias.)  The measurement noise density is
+   ``tau_bias · bias_noise``, so that once the bias is known the loop forgets over ``tau_bias``, as the old
+   loop did; at rest ``tau_rest_bias · bias_noise``.  The regressor has no vertical row, so in motion the
+   component of b along the vertical is learnt only as the body tilts.  Optionally (``acc_bias_sigma``) the
+   noise grows with the correction rate an accelerometer bias would cause as the body turns.  ``bias_limit``
+   is a prior's bound, not a clip: the estimate leaks towards zero over ten hours (a Gauss-Markov bias) and
+   is flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so a real 4.5°/s bias is learnt instead of held at the
+   limit; each in-motion innovation is clipped to it (a correction faster than any plausible bias is no
+   bias: the start, a shock).
 5. Irregular sampling: every coefficient is computed for its interval, and over an interval that holds lost
    rows the gyro rate is interpolated across the gap (as in the AttitudeEstimator, whose notes explain it).
    A NaN row of ``acc`` (or ``pitch_roll``) means no tilt-sensor sample then (sensors at different rates): it
@@ -41,9 +55,9 @@ accelerometer, or inclinometer angles):
    sample steps it over the whole time since; the rest detector holds the last sample present.
 
 Where the patent leaves the design open (its gains and rates were not retrieved, math.md §5.6), these choices
-are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule; 0.758° mean
-inclination RMSE, against 0.764° for VQF in the same run; ``tau_acc`` by leave-one-group-out,
-benchmarks/bench_attitude.py).
+are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule) and checked by
+leave-one-group-out and on the simulated test-bed against VQF (benchmarks/bench_attitude.py,
+benchmarks/bench_testbed.py; figures in docs/guide/estimators.md).
 """
 
 from __future__ import annotations
@@ -256,11 +270,9 @@ class TiltParams:
         in the almost-inertial frame, s.  Longer rejects more linear acceleration, shorter follows a drifting
         gyro closer.  Default 3.0, VQF's for the same filter (on BROAD 2.5-3.0 s give 0.75-0.76°).
     tau_bias : float
-        Time constant of the gyro-bias learning in motion (the patent's integral drift loop), s; 0 disables
-        it.  Default 100.  On a rocking platform the two horizontal components come within 1 % of a constant
-        bias after about 4.5 tau_bias, after about 9 tau_bias when the platform also turns (it rotates the error
-        against the lag of the filter); benchmarks/bench_estimators.py.  Shorter learns faster but lets
-        sustained accelerations leak into the bias.
+        Time constant of the gyro-bias learning in motion once the bias is known (the steady state of the drift
+        loop's Kalman filter: its measurement noise density is tau_bias · bias_noise), s; 0 disables it.
+        Default 100 (VQF's).  Shorter learns faster but lets sustained accelerations leak into the bias.
     rest_gyro : float
         Rest detection: largest deviation of the gyro from its 0.5 s mean, rad/s.  Default 2°/s.
     rest_acc : float
@@ -268,15 +280,21 @@ class TiltParams:
     rest_time : float
         Seconds of steadiness before rest is declared.  Default 1.5.
     tau_rest_bias : float
-        Time constant with which the bias follows the gyro at rest, s.  Default 1.0.
-    bias_limit : float
-        Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
-        pulled towards zero over ten hours (a Gauss-Markov bias), so a larger bias the data show is learnt, and
-        flagged ``FLAG_BIAS_AT_LIMIT`` while it lies beyond the bound; a steady mean rate up to three times it
-        counts as a bias at rest.
-    acc_gate : float
-        Leave the tilt sensor out of the low-pass filter when its magnitude differs from g by more than this,
-        m/s² (a gate against shocks); inf keeps every sample.  Default inf.
+        Time constant with which the bias follows the gyro at rest once known (the rest measurement's noise
+        density is tau_rest_bias · bias_noise), s.  Default 1.0.
+    bias_sigma_init : float
+        Standard deviation of the bias before any data, per axis, rad/s: how fast the first seconds learn it.
+        Default 0.5°/s (VQF's).
+    bias_noise : float
+        The bias's random walk, rad/s/√s: how fast what was learnt is forgotten.  Default 0.01°/s/√s (VQF's:
+        0.1°/s in 100 s), five times a consumer gyro's rate random walk, for temperature drift.
+    acc_bias_sigma : float
+        Accelerometer bias believed, per axis, m/s² (0: ignored, the default).  Its apparent gravity offset,
+        fixed in the body, turns the correction as the body turns, at a rate up to |dLP[R]/dt| acc_bias_sigma/g,
+        which the drift loop would learn as a gyro bias; given, the loop's measurement noise grows by that rate,
+        coloured over tau_acc (module notes, 4).  Measured: 0.2 (20 mg, a consumer part's) helps a simulated IMU
+        whose only error is such a bias (1.30° -> 1.29°) but costs where there is none (ideal IMU 0.85° ->
+        0.87°) and changes BROAD by 0.0002°, so it is off (benchmarks/bench_testbed.py, bench_attitude.py).
     """
 
     tau_acc: float = 3.0
@@ -287,9 +305,21 @@ class TiltParams:
     tau_rest_bias: float = 1.0
     bias_limit: float = float(np.radians(2.0))
     acc_gate: float = np.inf
+    bias_sigma_init: float = float(np.radians(0.5))
+    bias_noise: float = float(np.radians(0.01))
+    acc_bias_sigma: float = 0.0
 
     def __post_init__(self):
-        positive = ("tau_acc", "rest_gyro", "rest_acc", "tau_rest_bias", "bias_limit", "acc_gate")
+        positive = (
+            "tau_acc",
+            "rest_gyro",
+            "rest_acc",
+            "tau_rest_bias",
+            "bias_limit",
+            "acc_gate",
+            "bias_sigma_init",
+            "bias_noise",
+        )
         for name in positive:
             v = getattr(self, name)
             if not (v > 0 and not np.isnan(v)):
@@ -298,6 +328,8 @@ class TiltParams:
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be a non-negative number of seconds, got {v!r}")
+        if not (np.isfinite(self.acc_bias_sigma) and self.acc_bias_sigma >= 0):
+            raise ValueError(f"acc_bias_sigma must be a non-negative number of m/s², got {self.acc_bias_sigma!r}")
 
 
 class TiltEstimator(Estimator):
@@ -355,10 +387,23 @@ class TiltEstimator(Estimator):
         ("nominal_interval", ()),
         ("acc_interval", ()),
         ("acc_previous", (3,)),
+        ("bias_covariance", (3, 3)),
+        ("drift_filter", (2, 8)),
+        ("block_seconds", ()),
+        ("acc_start", (5,)),
     )
     _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
     # states saved before these existed restore too
-    _optional_keys = ("gyro_previous", "nominal_interval", "acc_interval", "acc_previous")
+    _optional_keys = (
+        "gyro_previous",
+        "nominal_interval",
+        "acc_interval",
+        "acc_previous",
+        "bias_covariance",
+        "drift_filter",
+        "block_seconds",
+        "acc_start",
+    )
     missing_samples = True  # a NaN row of acc (or pitch_roll): no tilt-sensor sample then
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
@@ -440,6 +485,11 @@ class TiltEstimator(Estimator):
             "nominal_interval": 0.0,  # s, the shortest recent sample interval (0: none yet)
             "acc_interval": 0.0,  # s since the last tilt-sensor sample the filter took
             "acc_previous": a0.copy(),  # the last tilt-sensor sample present (rest detection)
+            "bias_covariance": np.eye(3) * self.params.bias_sigma_init**2,  # (rad/s)²
+            "drift_filter": _drift_filter(q, self._bias0),  # the drift loop's low-pass (rates, outputs)
+            "block_seconds": 0.0,  # s into the drift loop's block
+            # the start's plain mean over tau_acc: seconds so far (-1: over), sum of the samples in I, count
+            "acc_start": np.zeros(5),
         }
 
     @property
@@ -456,6 +506,7 @@ class TiltEstimator(Estimator):
         flags = np.empty(n, dtype=np.uint8)
         p = self.params
         st = self._state
+        cov = st.get("bias_covariance", np.eye(3) * p.bias_sigma_init**2)
         s = np.concatenate(
             [
                 st["q_gyro"],
@@ -470,6 +521,10 @@ class TiltEstimator(Estimator):
                 [st.get("nominal_interval", 0.0)],
                 [st.get("acc_interval", 0.0)],
                 st.get("acc_previous", st["rest_filter"][3:]),
+                cov[np.triu_indices(3)],
+                st.get("drift_filter", _drift_filter(st["q"], st["bias"])).ravel(),
+                [st.get("block_seconds", 0.0)],
+                st.get("acc_start", [-1.0, 0.0, 0.0, 0.0, 0.0]),
             ]
         )
         k.run(
@@ -483,6 +538,8 @@ class TiltEstimator(Estimator):
             p.tau_rest_bias,
             p.tau_bias,
             p.bias_limit,
+            p.bias_noise,
+            p.acc_bias_sigma,
             GRAVITY,
             p.acc_gate,
             self._to_out,
@@ -501,7 +558,20 @@ class TiltEstimator(Estimator):
         st["nominal_interval"] = float(s[k.NOMDT])
         st["acc_interval"] = float(s[k.ATIME])
         st["acc_previous"] = s[k.ALAST : k.ALAST + 3].copy()
+        c = s[k.COV : k.COV + 6]
+        st["bias_covariance"] = np.array([[c[0], c[1], c[2]], [c[1], c[3], c[4]], [c[2], c[4], c[5]]])
+        st["drift_filter"] = s[k.DRIFT : k.DRIFT + 16].reshape(2, 8)
+        st["block_seconds"] = float(s[k.BLOCK])
+        st["acc_start"] = s[k.START : k.START + 5].copy()
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
+
+
+def _drift_filter(q, bias) -> np.ndarray:
+    """The drift loop's low-pass in steady state at attitude q and bias: rates 0, outputs R's rows 0-1 and R b."""
+    from ..matrix import as_matrix
+
+    r = as_matrix(q)[:2]
+    return np.array([np.zeros(8), np.concatenate([r.ravel(), r @ bias])])
 
 
 def tilt(

@@ -186,10 +186,12 @@ LOGO_GRIDS = {
     "acc_bias_sigma_init": ([0.0, 0.01, 0.03], "6D", "inclination"),
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
     "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
+    "tilt tau_bias": ([50.0, 100.0, 200.0], "tilt", "inclination"),
+    "tilt acc_bias_sigma": ([0.0, 0.2, 0.5], "tilt", "inclination"),
 }
 
 
-def leave_one_group_out(trials) -> dict:
+def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
     """For each default this round moved: chosen on all groups but one, scored on the one left out (issue 13).
 
     One parameter at a time, the others at their defaults.  For every left-out group the grid value with the
@@ -201,6 +203,8 @@ def leave_one_group_out(trials) -> dict:
     print(f"\nLeave-one-group-out on BROAD ({len(set(groups))} groups: {', '.join(sorted(set(groups)))})")
     out = {}
     for name, (values, mode, metric) in LOGO_GRIDS.items():
+        if tilt_only and mode != "tilt":
+            continue
         per = {}
         for v in values:
             if mode == "offline":
@@ -428,7 +432,8 @@ def main(argv=None):
     ap.add_argument("--skip-surface", action="store_true")
     ap.add_argument(
         "--only",
-        help="comma-separated sections: accuracy, surface, irregular, logo, simulated, throughput (default: all)",
+        help="comma-separated sections: accuracy, surface, irregular, logo (or logo-tilt: the TiltEstimator's "
+        "grids alone), simulated, throughput (default: all)",
     )
     ap.add_argument("--trials", help="comma-separated trial numbers to use (default: all 22), e.g. 01,06,21")
     ap.add_argument("--json")
@@ -440,7 +445,7 @@ def main(argv=None):
     t0 = time.perf_counter()
     results = {}
     trials = []
-    every = {"accuracy", "surface", "irregular", "logo", "simulated", "throughput"}
+    every = {"accuracy", "surface", "irregular", "logo", "simulated", "throughput"}  # and logo-tilt
     sections = set(args.only.split(",")) if args.only else every
     if args.skip_surface:
         sections.discard("surface")
@@ -459,6 +464,8 @@ def main(argv=None):
             results["irregular"] = irregular(trials)
         if "logo" in sections:
             results["leave_one_group_out"] = leave_one_group_out(trials)
+        elif "logo-tilt" in sections:  # the TiltEstimator's grids alone (fast)
+            results["leave_one_group_out"] = leave_one_group_out(trials, tilt_only=True)
     else:
         print(f"BROAD not found at {args.broad}: accuracy skipped")
     if "simulated" in sections:

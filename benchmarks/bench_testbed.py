@@ -1,6 +1,6 @@
 """A simulated test-bed for the AttitudeEstimator, the TiltEstimator and VQF, side by side, per condition (issue 13).
 
-    python benchmarks/bench_testbed.py [--seeds 3] [--json results.json]
+    python benchmarks/bench_testbed.py [--seeds 3] [--tilt-params '{"tau_acc": 2.5}'] [--json results.json]
 
 Each condition varies one thing real data vary, from a common base: a consumer-grade MEMS IMU
 (``ImuModel.consumer_mems()``: noise, bias, scale and cross-axis errors, quantisation; its magnetometer
@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from strapdown.fusion import attitude, tilt
+from strapdown.fusion import TiltParams, attitude, tilt
 from strapdown.metrics import attitude_errors
 from strapdown.simulate import (
     ClockModel,
@@ -139,7 +139,7 @@ def conditions():
     return c
 
 
-def run_condition(make, seed: int) -> dict:
+def run_condition(make, seed: int, tilt_params=None) -> dict:
     from vqf import VQF
 
     traj, rate, imu, disturbances, drop, settle, *rest = make(seed)
@@ -167,7 +167,7 @@ def run_condition(make, seed: int) -> dict:
         "ours 6D": attitude(g, a, t=tr, params=params).q,
         "ours 9D": attitude(g, a, m, t=tr, params=params).q,
         "VQF 6D": VQF(dt).updateBatch(g, a)["quat6D"],
-        "Tilt 6D": tilt(g, a, t=tr).q,
+        "Tilt 6D": tilt(g, a, t=tr, params=TiltParams(**(tilt_params or {}))).q,
         "VQF 9D": VQF(dt).updateBatch(g, a, m)["quat9D"],
     }
     scored = tr >= tr[0] + settle
@@ -184,6 +184,7 @@ def run_condition(make, seed: int) -> dict:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--tilt-params", type=json.loads, help="TiltParams overrides as JSON, e.g. '{\"tau_acc\": 2.5}'")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     try:
@@ -198,7 +199,7 @@ def main(argv=None):
     results = {}
     wins = {"6D": 0, "9D": 0, "Tilt": 0}
     for label, make in conditions().items():
-        per_seed = [run_condition(make, seed) for seed in range(args.seeds)]
+        per_seed = [run_condition(make, seed, args.tilt_params) for seed in range(args.seeds)]
         means = {n: float(np.mean([r[n] for r in per_seed])) for n in names}
         better = []
         for mode in ("6D", "9D"):

@@ -30,12 +30,10 @@ NOMDT = 35  # 1: the nominal sample interval, s (0: none yet)
 ATIME = 36  # 1: seconds since the last tilt-sensor sample the filter took (missing and gated rows add up)
 ALAST = 37  # 3: the last tilt-sensor sample present (the rest detector holds it through missing rows)
 COV = 40  # 6: the bias covariance P00 P01 P02 P11 P12 P22, (rad/s)²
-ND = 10  # the drift loop's low-passed channels: R's horizontal rows (6), R b (2), the departure (2)
-DRIFT = 46  # 2 ND: their rates, then their outputs
-BLOCK = DRIFT + 2 * ND  # 1: seconds into the drift loop's block
-START = BLOCK + 1  # 5: the start's plain mean: seconds so far (-1: over), sum of the samples in I (3), count
-SUMS = START + 5  # 3: over the block, ∫|ω|² dt and ∫ of the tilt sensor's horizontal departure from the filter
-SIZE = SUMS + 3
+DRIFT = 46  # 16: the drift loop's low-pass of R's horizontal rows and of R b: 8 rates, then 8 outputs
+BLOCK = 62  # 1: seconds into the drift loop's block
+START = 63  # 5: the start's plain mean: seconds so far (-1: over), sum of the samples in I (3), their count
+SIZE = 68
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate is a bias (rest) up to this many bias_limit (as in the AttitudeEstimator)
 PRIOR_TIME = 36000.0  # s: the bias prior's pull towards zero (a Gauss-Markov correlation time, no clip); it leaves
@@ -85,8 +83,6 @@ def run(
     bias_limit,
     bias_noise,
     acc_bias_sigma,
-    scale_sigma,
-    acc_factor,
     gravity,
     acc_gate,
     to_out,
@@ -117,9 +113,7 @@ def run(
     u0, u1, u2 = s[ALP], s[ALP + 1], s[ALP + 2]  # tilt-sensor mean (rest detection)
     rest = s[REST]
     P00, P01, P02, P11, P12, P22 = s[COV], s[COV + 1], s[COV + 2], s[COV + 3], s[COV + 4], s[COV + 5]
-    # rates 0..ND-1, then outputs: R00 R01 R02 R10 R11 R12, (R b)0 (R b)1, departure x y
-    d = s[DRIFT : DRIFT + 2 * ND].copy()
-    sw2, sdx, sdy = s[SUMS], s[SUMS + 1], s[SUMS + 2]
+    d = s[DRIFT : DRIFT + 16].copy()  # rates 0-7, outputs 8-15: R00 R01 R02 R10 R11 R12 (R b)0 (R b)1
     blk = s[BLOCK]
     a_init, asx, asy, asz, a_cnt = s[START], s[START + 1], s[START + 2], s[START + 3], s[START + 4]
     fw, fx, fy, fz = to_out[0], to_out[1], to_out[2], to_out[3]
@@ -132,8 +126,6 @@ def run(
     motion_density = (tau_bias * bias_noise) ** 2  # (rad/s)² s: steady-state time constant tau_bias in motion
     rest_density = (tau_rest_bias * bias_noise) ** 2  # likewise tau_rest_bias at rest
     acc_bias_density = tau_acc * (acc_bias_sigma / gravity) ** 2  # s: times |dLP[R]/dt|² (module notes, 4)
-    scale_density = tau_acc * scale_sigma * scale_sigma  # s: times the mean |ω|²
-    lin_density = tau_acc * (acc_factor / gravity) ** 2  # s³/m²: times |dLP[departure]/dt|²
     last_dt = last_t_acc = last_blk = -1.0
     p00 = p01 = p10 = p11 = r = 0.0
     d00 = d01 = d10 = d11 = keep = 0.0
@@ -153,7 +145,6 @@ def run(
         # rate interpolated across the gap (gap_step in _kernels_numba.py)
         ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
         gw, gx, gy, gz = right_step(gw, gx, gy, gz, (ox - b0) * dt, (oy - b1) * dt, (oz - b2) * dt)
-        sw2 += (ox * ox + oy * oy + oz * oz) * dt
         # 2. the tilt sensor in the almost-inertial frame, low-passed over tau_acc (second-order Butterworth,
         # stepped exactly over the time since the last sample it took: lowpass2).  A missing sample (NaN row) or
         # one the gate rejects holds the filter; the next one steps it over the whole time since, so a gap
@@ -182,9 +173,6 @@ def run(
                 m0, l0 = lowpass2_step(m0, l0, ix, p00, p01, p10, p11)
                 m1, l1 = lowpass2_step(m1, l1, iy, p00, p01, p10, p11)
                 m2, l2 = lowpass2_step(m2, l2, iz, p00, p01, p10, p11)
-                # the linear acceleration the filter is averaging out (the sample's departure from it)
-                sdx += (ix - m0) * t_acc
-                sdy += (iy - m1) * t_acc
             t_acc = 0.0
         else:
             flag |= FLAG_ACC_REJECTED
@@ -243,17 +231,17 @@ def run(
             x5 = 2.0 * (qy * qz - qw * qx)
             x6 = x0 * b0 + x1 * b1 + x2 * b2
             x7 = x3 * b0 + x4 * b1 + x5 * b2
-            xs = (x0, x1, x2, x3, x4, x5, x6, x7, sdx / blk, sdy / blk)
+            xs = (x0, x1, x2, x3, x4, x5, x6, x7)
             if a_init >= 0.0:
                 # during the start the tilt sensor's filter is a plain mean, so is this one (time-weighted over
                 # the blocks so far); it hands over in steady state, as that one does
                 wm = blk / max(a_init, blk)
-                for j in range(ND):
-                    d[ND + j] += wm * (xs[j] - d[ND + j])
+                for j in range(8):
+                    d[8 + j] += wm * (xs[j] - d[8 + j])
                     d[j] = 0.0
             else:
-                for j in range(ND):
-                    d[ND + j], d[j] = lowpass2_step(d[ND + j], d[j], xs[j], d00, d01, d10, d11)
+                for j in range(8):
+                    d[8 + j], d[j] = lowpass2_step(d[8 + j], d[j], xs[j], d00, d01, d10, d11)
             if at_rest:
                 # the 0.5 s gyro mean measures the bias on every axis
                 w = rest_density / blk
@@ -276,50 +264,18 @@ def run(
                 h2 = c2 * pw - cw * p2
                 h3 = c2 * p1 - c1 * p2
                 ex, ey, _ = unit_rotvec(hw, h1, h2, h3)
-                # noise: a base density (tau_bias), and what moves the correction as a bias error would, each
-                # coloured over about tau_acc (module notes, 4): an accelerometer bias while the body turns,
-                # |dLP[R]/dt| acc_bias_sigma / g; a gyro scale error, scale_sigma |ω|; the linear acceleration
-                # the low-pass leaves, |dLP[departure]/dt| / g
+                # noise: a base density (tau_bias) and the correction an accelerometer bias makes while the
+                # body turns, |dLP[R]/dt| acc_bias_sigma / g, coloured over tau_acc (module notes, 4)
                 rr = d[0] ** 2 + d[1] ** 2 + d[2] ** 2 + d[3] ** 2 + d[4] ** 2 + d[5] ** 2
-                lin = d[8] ** 2 + d[9] ** 2
-                w = (motion_density + acc_bias_density * rr + scale_density * sw2 / blk + lin_density * lin) / blk
-                n = ND
+                w = (motion_density + acc_bias_density * rr) / blk
                 P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
-                    P00,
-                    P01,
-                    P02,
-                    P11,
-                    P12,
-                    P22,
-                    b0,
-                    b1,
-                    b2,
-                    d[n],
-                    d[n + 1],
-                    d[n + 2],
-                    d[n + 6] - ex / blk,
-                    w,
-                    bias_limit,
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, d[8], d[9], d[10], d[14] - ex / blk, w, bias_limit
                 )
                 P00, P01, P02, P11, P12, P22, b0, b1, b2 = kalman1(
-                    P00,
-                    P01,
-                    P02,
-                    P11,
-                    P12,
-                    P22,
-                    b0,
-                    b1,
-                    b2,
-                    d[n + 3],
-                    d[n + 4],
-                    d[n + 5],
-                    d[n + 7] - ey / blk,
-                    w,
-                    bias_limit,
+                    P00, P01, P02, P11, P12, P22, b0, b1, b2, d[11], d[12], d[13], d[15] - ey / blk, w, bias_limit
                 )
             pw, p1, p2 = cw, c1, c2
-            blk = sw2 = sdx = sdy = 0.0
+            blk = 0.0
         if max(abs(b0), abs(b1), abs(b2)) > bias_limit:
             flag |= FLAG_BIAS_AT_LIMIT
         out[k, 0] = qw
@@ -347,7 +303,6 @@ def run(
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
     s[ATIME], s[ALAST], s[ALAST + 1], s[ALAST + 2] = t_acc, hx, hy, hz
     s[COV], s[COV + 1], s[COV + 2], s[COV + 3], s[COV + 4], s[COV + 5] = P00, P01, P02, P11, P12, P22
-    s[DRIFT : DRIFT + 2 * ND] = d
-    s[SUMS], s[SUMS + 1], s[SUMS + 2] = sw2, sdx, sdy
+    s[DRIFT : DRIFT + 16] = d
     s[BLOCK] = blk
     s[START], s[START + 1], s[START + 2], s[START + 3], s[START + 4] = a_init, asx, asy, asz, a_cnt

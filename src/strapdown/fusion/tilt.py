@@ -308,8 +308,6 @@ class TiltParams:
     bias_sigma_init: float = float(np.radians(0.5))
     bias_noise: float = float(np.radians(0.01))
     acc_bias_sigma: float = 0.0
-    scale_sigma: float = 0.0
-    bias_noise_acc_factor: float = 0.0
 
     def __post_init__(self):
         positive = (
@@ -330,10 +328,8 @@ class TiltParams:
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be a non-negative number of seconds, got {v!r}")
-        for name in ("acc_bias_sigma", "scale_sigma", "bias_noise_acc_factor"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a non-negative number, got {v!r}")
+        if not (np.isfinite(self.acc_bias_sigma) and self.acc_bias_sigma >= 0):
+            raise ValueError(f"acc_bias_sigma must be a non-negative number of m/s², got {self.acc_bias_sigma!r}")
 
 
 class TiltEstimator(Estimator):
@@ -392,8 +388,7 @@ class TiltEstimator(Estimator):
         ("acc_interval", ()),
         ("acc_previous", (3,)),
         ("bias_covariance", (3, 3)),
-        ("drift_filter", (2, 10)),
-        ("drift_sums", (3,)),
+        ("drift_filter", (2, 8)),
         ("block_seconds", ()),
         ("acc_start", (5,)),
     )
@@ -406,7 +401,6 @@ class TiltEstimator(Estimator):
         "acc_previous",
         "bias_covariance",
         "drift_filter",
-        "drift_sums",
         "block_seconds",
         "acc_start",
     )
@@ -494,7 +488,6 @@ class TiltEstimator(Estimator):
             "bias_covariance": np.eye(3) * self.params.bias_sigma_init**2,  # (rad/s)²
             "drift_filter": _drift_filter(q, self._bias0),  # the drift loop's low-pass (rates, outputs)
             "block_seconds": 0.0,  # s into the drift loop's block
-            "drift_sums": np.zeros(3),  # over the block: ∫|ω|² dt, ∫ the tilt sensor's departure (x, y) dt
             # the start's plain mean over tau_acc: seconds so far (-1: over), sum of the samples in I, count
             "acc_start": np.zeros(5),
         }
@@ -532,7 +525,6 @@ class TiltEstimator(Estimator):
                 st.get("drift_filter", _drift_filter(st["q"], st["bias"])).ravel(),
                 [st.get("block_seconds", 0.0)],
                 st.get("acc_start", [-1.0, 0.0, 0.0, 0.0, 0.0]),
-                st.get("drift_sums", np.zeros(3)),
             ]
         )
         k.run(
@@ -548,8 +540,6 @@ class TiltEstimator(Estimator):
             p.bias_limit,
             p.bias_noise,
             p.acc_bias_sigma,
-            p.scale_sigma,
-            p.bias_noise_acc_factor,
             GRAVITY,
             p.acc_gate,
             self._to_out,
@@ -570,8 +560,7 @@ class TiltEstimator(Estimator):
         st["acc_previous"] = s[k.ALAST : k.ALAST + 3].copy()
         c = s[k.COV : k.COV + 6]
         st["bias_covariance"] = np.array([[c[0], c[1], c[2]], [c[1], c[3], c[4]], [c[2], c[4], c[5]]])
-        st["drift_filter"] = s[k.DRIFT : k.DRIFT + 2 * k.ND].reshape(2, k.ND)
-        st["drift_sums"] = s[k.SUMS : k.SUMS + 3].copy()
+        st["drift_filter"] = s[k.DRIFT : k.DRIFT + 16].reshape(2, 8)
         st["block_seconds"] = float(s[k.BLOCK])
         st["acc_start"] = s[k.START : k.START + 5].copy()
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
@@ -582,7 +571,7 @@ def _drift_filter(q, bias) -> np.ndarray:
     from ..matrix import as_matrix
 
     r = as_matrix(q)[:2]
-    return np.array([np.zeros(10), np.concatenate([r.ravel(), r @ bias, np.zeros(2)])])
+    return np.array([np.zeros(8), np.concatenate([r.ravel(), r @ bias])])
 
 
 def tilt(

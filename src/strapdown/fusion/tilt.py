@@ -29,23 +29,28 @@ accelerometer, or inclinometer angles):
    sensor -> tilt quaternion, applied to the filtered vector).  The estimate is ``q_c ⊗ q_g``, reported as its
    tilt quaternion, pitch and roll; its heading is the gyro's and drifts, unobservable without a heading
    reference.
-4. The gyro bias is learnt by a Kalman filter (state b, covariance P; a random walk of ``bias_noise`` and
-   a start of ``bias_sigma_init``), updated every 0.05 s from one of two measurements.  At rest (gyro and
-   tilt sensor steady for ``rest_time``) the 0.5 s gyro mean measures b on all three axes.  In motion, the
-   patent's drift loop: when the bias estimate is off by δb, the almost-inertial frame turns at R δb
-   (reference axes, R the attitude's matrix) and the correction q_c turns with it, through the tilt sensor's
-   low-pass: its mean rate over the block is -LP[R δb], horizontal.  So y = -rate + LP[R b̂] measures
-   LP[R] b, with LP[R]'s two horizontal rows as the regressor (VQF's regression, Laidig & Seel 2023): R
-   and R b̂ are run through the same low-pass as the tilt sensor, so the filter's lag is modelled.  (The
-   patent's loop as first built fed the rate back through the current R, which is wrong by the rotation
-   during the lag: on a 30°/s turntable it learnt nothing, 2.8° against VQF's 1.0°; and its fixed gain was
-   slow from the start: 8.5° against 6.5° with a 5°/s bias.)  The measurement noise density is
-   ``tau_bias · bias_noise``, so that once the bias is known the loop forgets over ``tau_bias``, as the old
-   loop did; at rest ``tau_rest_bias · bias_noise``.  The regressor has no vertical row, so in motion the
-   component of b along the vertical is learnt only as the body tilts.  Optionally (``acc_bias_sigma``) the
+4. The gyro bias b and scale-factor errors s (the gyro reads (1 + s) ω + b; q_g integrates the rate so
+   corrected) are a Kalman filter's state (covariance P; random walks ``bias_noise`` and ``scale_noise``,
+   starting spreads ``bias_sigma_init`` and ``scale_sigma_init``), updated every 0.1 s from one of two
+   measurements.  At rest (gyro and tilt sensor steady for ``rest_time``) the 0.5 s gyro mean measures b on
+   all three axes.  In motion, the patent's drift loop: when the estimates are off by δb and δs, the
+   almost-inertial frame turns at R (δb + δs ∘ ω) (reference axes, R the attitude's matrix) and the
+   correction q_c turns with it, through the tilt sensor's low-pass: its mean rate over the block is
+   -LP[R (δb + δs ∘ ω)], horizontal.  So y = -rate + LP[R (b̂ + ŝ ∘ ω)] measures LP[R] b + LP[R diag ω] s,
+   with the two horizontal rows of LP[R] and LP[R diag ω] as the regressor (VQF's regression for the bias;
+   the AttitudeEstimator's for both): R, R diag ω and the prediction are run through the same low-pass as
+   the tilt sensor, so the filter's lag is modelled, and taken at the block's middle.  (The patent's loop as
+   first built fed the rate back through the current R, which is wrong by the rotation during the lag: on a
+   30°/s turntable it learnt nothing, 2.8° against VQF's 1.0°; and its fixed gain was slow from the start:
+   8.5° against 6.5° with a 5°/s bias.)  The scale factors matter in fast, sustained rotation, where a 1 %
+   error turns the frame by 1 % of the rotation: on BROAD they take the inclination error from 0.764° to
+   0.648°; on the simulated test-bed (random motion, 0.3-0.5 % scale errors) they change little.  The
+   measurement noise density is ``tau_bias · bias_noise``, so that once the bias is known the loop forgets
+   over ``tau_bias``; at rest ``tau_rest_bias · bias_noise``.  The regressor has no vertical row, so in motion
+   the component along the vertical is learnt only as the body tilts.  Optionally (``acc_bias_sigma``) the
    noise grows with the correction rate an accelerometer bias would cause as the body turns.  ``bias_limit``
-   is a prior's bound, not a clip: the estimate leaks towards zero over ten hours (a Gauss-Markov bias) and
-   is flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so a real 4.5°/s bias is learnt instead of held at the
+   is a prior's bound, not a clip: the bias leaks towards zero over ten hours (a Gauss-Markov bias) and is
+   flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so a real 4.5°/s bias is learnt instead of held at the
    limit; each in-motion innovation is clipped to it (a correction faster than any plausible bias is no
    bias: the start, a shock).
 5. Irregular sampling: every coefficient is computed for its interval, and over an interval that holds lost
@@ -288,6 +293,13 @@ class TiltParams:
     bias_noise : float
         The bias's random walk, rad/s/√s: how fast what was learnt is forgotten.  Default 0.01°/s/√s (VQF's:
         0.1°/s in 100 s), five times a consumer gyro's rate random walk, for temperature drift.
+    scale_sigma_init : float
+        Spread of the gyro's scale-factor errors before any data (dimensionless; the gyro reads (1 + s) ω + b).
+        Default 0.01, a consumer MEMS gyro's sensitivity tolerance (±1-3 % on datasheets), chosen by
+        leave-one-group-out on BROAD (0: 0.764°, 0.002: 0.699°, 0.005: 0.659°, 0.01: 0.648°, 0.02: 0.678°); 0
+        turns the scale estimation off.
+    scale_noise : float
+        Random walk of the scale-factor errors, 1/√s.  Default 1e-5 (the AttitudeEstimator's).
     acc_bias_sigma : float
         Accelerometer bias believed, per axis, m/s² (0: ignored, the default).  Its apparent gravity offset,
         fixed in the body, turns the correction as the body turns, at a rate up to |dLP[R]/dt| acc_bias_sigma/g,
@@ -308,6 +320,8 @@ class TiltParams:
     bias_sigma_init: float = float(np.radians(0.5))
     bias_noise: float = float(np.radians(0.01))
     acc_bias_sigma: float = 0.0
+    scale_sigma_init: float = 0.01
+    scale_noise: float = 1e-5
 
     def __post_init__(self):
         positive = (
@@ -328,8 +342,10 @@ class TiltParams:
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be a non-negative number of seconds, got {v!r}")
-        if not (np.isfinite(self.acc_bias_sigma) and self.acc_bias_sigma >= 0):
-            raise ValueError(f"acc_bias_sigma must be a non-negative number of m/s², got {self.acc_bias_sigma!r}")
+        for name in ("acc_bias_sigma", "scale_sigma_init", "scale_noise"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be a non-negative number, got {v!r}")
 
 
 class TiltEstimator(Estimator):
@@ -356,11 +372,15 @@ class TiltEstimator(Estimator):
     (radians) are computed from ``q`` when asked for.
 
     ``.state`` (readable and assignable) holds the estimate ``q`` = ``q_correction ⊗ q_gyro``, the gyro-frame
-    attitude ``q_gyro``, the correction ``q_correction`` (a tilt quaternion, e3 = 0) and its previous value
-    ``q_correction_previous`` (the drift loop runs one sample late, see the kernel), ``bias`` (rad/s),
-    ``acc_filter`` (2, 3) (the low-pass filter's rate, m/s³, and output, m/s², almost-inertial frame),
-    ``rest_filter`` (6,) (0.5 s means of gyro and tilt sensor), ``rest_seconds``, ``gyro_previous`` (3,) and
-    ``nominal_interval`` (the rate interpolation across lost rows), all in ENU.
+    attitude ``q_gyro``, the correction ``q_correction`` (a tilt quaternion, e3 = 0) and its value at the start
+    of the drift loop's block ``q_correction_previous``, ``bias`` (rad/s) and ``scale`` (the Kalman filter's
+    states) and their ``covariance`` (6, 6), ``acc_filter`` (2, 3) (the low-pass filter's rate, m/s³, and
+    output, m/s², almost-inertial frame), ``acc_start`` (5,) (its plain mean at the start), ``drift_filter``
+    (2, 14) (the drift loop's low-pass of its regressors, rates and outputs) and ``block_seconds``,
+    ``rest_filter`` (6,) (0.5 s means of gyro and tilt sensor), ``rest_seconds``, ``gyro_previous`` (3,),
+    ``nominal_interval``, ``acc_interval`` and ``acc_previous`` (3,) (lost rows and missing samples), all in
+    ENU.  A state saved before the Kalman drift loop existed restores (the new entries start afresh: the
+    covariance at its initial value, so the bias is relearnt).
 
     Examples
     --------
@@ -387,8 +407,9 @@ class TiltEstimator(Estimator):
         ("nominal_interval", ()),
         ("acc_interval", ()),
         ("acc_previous", (3,)),
-        ("bias_covariance", (3, 3)),
-        ("drift_filter", (2, 8)),
+        ("covariance", (6, 6)),
+        ("scale", (3,)),
+        ("drift_filter", (2, 14)),
         ("block_seconds", ()),
         ("acc_start", (5,)),
     )
@@ -399,7 +420,8 @@ class TiltEstimator(Estimator):
         "nominal_interval",
         "acc_interval",
         "acc_previous",
-        "bias_covariance",
+        "covariance",
+        "scale",
         "drift_filter",
         "block_seconds",
         "acc_start",
@@ -485,17 +507,27 @@ class TiltEstimator(Estimator):
             "nominal_interval": 0.0,  # s, the shortest recent sample interval (0: none yet)
             "acc_interval": 0.0,  # s since the last tilt-sensor sample the filter took
             "acc_previous": a0.copy(),  # the last tilt-sensor sample present (rest detection)
-            "bias_covariance": np.eye(3) * self.params.bias_sigma_init**2,  # (rad/s)²
+            "covariance": self._covariance0(),  # of the bias (rad/s) and scale-factor errors
+            "scale": np.zeros(3),  # the gyro scale-factor errors (it reads (1 + s) ω + b)
             "drift_filter": _drift_filter(q, self._bias0),  # the drift loop's low-pass (rates, outputs)
             "block_seconds": 0.0,  # s into the drift loop's block
             # the start's plain mean over tau_acc: seconds so far (-1: over), sum of the samples in I, count
             "acc_start": np.zeros(5),
         }
 
+    def _covariance0(self) -> np.ndarray:
+        p = self.params
+        return np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3)
+
     @property
     def bias(self) -> np.ndarray | None:
         """The current gyro bias estimate, rad/s (sensor axes)."""
         return None if self._state is None else self._state["bias"].copy()
+
+    @property
+    def scale(self) -> np.ndarray | None:
+        """The current gyro scale-factor error estimate (dimensionless: the gyro reads (1 + s) ω + b)."""
+        return None if self._state is None else self._state.get("scale", np.zeros(3)).copy()
 
     def _run(self, gyr, acc, mag, dts, extra_in):
         from . import _tilt_numba as k
@@ -506,7 +538,7 @@ class TiltEstimator(Estimator):
         flags = np.empty(n, dtype=np.uint8)
         p = self.params
         st = self._state
-        cov = st.get("bias_covariance", np.eye(3) * p.bias_sigma_init**2)
+        cov = st.get("covariance", self._covariance0())
         s = np.concatenate(
             [
                 st["q_gyro"],
@@ -521,10 +553,11 @@ class TiltEstimator(Estimator):
                 [st.get("nominal_interval", 0.0)],
                 [st.get("acc_interval", 0.0)],
                 st.get("acc_previous", st["rest_filter"][3:]),
-                cov[np.triu_indices(3)],
+                cov.ravel(),
                 st.get("drift_filter", _drift_filter(st["q"], st["bias"])).ravel(),
                 [st.get("block_seconds", 0.0)],
                 st.get("acc_start", [-1.0, 0.0, 0.0, 0.0, 0.0]),
+                st.get("scale", np.zeros(3)),
             ]
         )
         k.run(
@@ -539,6 +572,7 @@ class TiltEstimator(Estimator):
             p.tau_bias,
             p.bias_limit,
             p.bias_noise,
+            p.scale_noise,
             p.acc_bias_sigma,
             GRAVITY,
             p.acc_gate,
@@ -558,11 +592,11 @@ class TiltEstimator(Estimator):
         st["nominal_interval"] = float(s[k.NOMDT])
         st["acc_interval"] = float(s[k.ATIME])
         st["acc_previous"] = s[k.ALAST : k.ALAST + 3].copy()
-        c = s[k.COV : k.COV + 6]
-        st["bias_covariance"] = np.array([[c[0], c[1], c[2]], [c[1], c[3], c[4]], [c[2], c[4], c[5]]])
-        st["drift_filter"] = s[k.DRIFT : k.DRIFT + 16].reshape(2, 8)
+        st["covariance"] = s[k.COV : k.COV + 36].reshape(6, 6)
+        st["drift_filter"] = s[k.DRIFT : k.DRIFT + 2 * k.ND].reshape(2, k.ND)
         st["block_seconds"] = float(s[k.BLOCK])
         st["acc_start"] = s[k.START : k.START + 5].copy()
+        st["scale"] = s[k.SCALE : k.SCALE + 3].copy()
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
 
 
@@ -571,7 +605,7 @@ def _drift_filter(q, bias) -> np.ndarray:
     from ..matrix import as_matrix
 
     r = as_matrix(q)[:2]
-    return np.array([np.zeros(8), np.concatenate([r.ravel(), r @ bias])])
+    return np.array([np.zeros(14), np.concatenate([r.ravel(), np.zeros(6), r @ bias])])
 
 
 def tilt(

@@ -151,11 +151,13 @@ def converged_after(bias, true, rel=0.01):
 
 def test_horizontal_bias_converges_vertical_is_unobservable():
     # rocking in place: the patent's drift loop alone (never at rest), defaults (tau_bias = 100 s)
-    data = platform(300.0, driving=False)
+    data = platform(400.0, driving=False)
     est = tilt(data.gyro, data.acc, dt=0.01)
     assert not (est.flags & FLAG_REST).any()
     k = converged_after(est.bias[:, :2], BIAS)
-    assert k < 3 * 100 * 100  # within 1 % on both horizontal axes after < 3 tau_bias (measured: 269 s)
+    # within 1 % on both horizontal axes after < 3.5 tau_bias (measured: 303 s; 269 s without the scale states,
+    # which share the information)
+    assert k < 3.5 * 100 * 100
     assert np.abs(est.bias[:, 2]).max() < 0.1 * BIAS  # vertical: not learnt in motion (measured 0.05)
     e = attitude_errors(est.q, data.q_true[1:])["inclination"]
     assert np.degrees(np.abs(e[k:])).max() < 0.3
@@ -167,7 +169,7 @@ def test_driving_needs_the_known_acceleration():
     known = kinematic_acceleration(data)
     with_known = tilt(data.gyro, data.acc, dt=0.01, known_acc=known)
     without = tilt(data.gyro, data.acc, dt=0.01)
-    assert converged_after(with_known.bias[:, :2], BIAS) < 4 * 100 * 100  # measured: 378 s
+    assert converged_after(with_known.bias[:, :2], BIAS) < 4 * 100 * 100  # measured: 341 s
     half = slice(20000, None)
     incl_known = np.degrees(attitude_errors(with_known.q[half], data.q_true[1:][half])["inclination"])
     incl_without = np.degrees(attitude_errors(without.q[half], data.q_true[1:][half])["inclination"])

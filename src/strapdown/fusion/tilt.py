@@ -307,6 +307,14 @@ class TiltParams:
         coloured over tau_acc (module notes, 4).  Measured: 0.2 (20 mg, a consumer part's) helps a simulated IMU
         whose only error is such a bias (1.30° -> 1.29°) but costs where there is none (ideal IMU 0.85° ->
         0.87°) and changes BROAD by 0.0002°, so it is off (benchmarks/bench_testbed.py, bench_attitude.py).
+    bias_limit : float
+        Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
+        pulled towards zero over ten hours (a Gauss-Markov bias), so a larger bias the data show is learnt, and
+        flagged ``FLAG_BIAS_AT_LIMIT`` while it lies beyond the bound; a steady mean rate up to three times it
+        counts as a bias at rest, and each in-motion innovation of the drift loop is clipped to it.
+    acc_gate : float
+        Leave the tilt sensor out of the low-pass filter when its magnitude differs from g by more than this,
+        m/s² (a gate against shocks); inf keeps every sample.  Default inf.
     """
 
     tau_acc: float = 3.0

@@ -48,7 +48,7 @@ BLOCK_TIME = 0.1  # s: the drift loop's update interval; its low-pass (tau_acc ~
 # gives the same accuracy (BROAD, test-bed) and costs about a quarter of the speed: the 6-state update is ~400 flops
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
+@nb.njit(cache=True, inline="always", error_model="numpy", fastmath={"contract"})
 def kalman(p, x, h, y, w, clip, u):
     """Kalman update of the state x (covariance p, both in place) by one scalar measurement y = h·x + noise.
 
@@ -141,6 +141,7 @@ def run(
     rest_density = (tau_rest_bias * bias_noise) ** 2  # likewise tau_rest_bias at rest
     acc_bias_density = tau_acc * (acc_bias_sigma / gravity) ** 2  # s: times |dLP[R]/dt|² (module notes, 4)
     last_dt = last_t_acc = last_blk = -1.0
+    at_limit = FLAG_BIAS_AT_LIMIT if max(abs(b0), abs(b1), abs(b2)) > bias_limit else 0
     p00 = p01 = p10 = p11 = r = 0.0
     d00 = d01 = d10 = d11 = keep = 0.0
     for k in range(gyr.shape[0]):
@@ -294,8 +295,8 @@ def run(
             b0, b1, b2, k0, k1, k2 = kx[0], kx[1], kx[2], kx[3], kx[4], kx[5]
             pw, p1, p2 = cw, c1, c2
             blk = 0.0
-        if max(abs(b0), abs(b1), abs(b2)) > bias_limit:
-            flag |= FLAG_BIAS_AT_LIMIT
+            at_limit = FLAG_BIAS_AT_LIMIT if max(abs(b0), abs(b1), abs(b2)) > bias_limit else 0
+        flag |= at_limit  # the bias changes only here
         out[k, 0] = qw
         out[k, 1] = qx
         out[k, 2] = qy

@@ -187,7 +187,7 @@ LOGO_GRIDS = {
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
     "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
     "tilt tau_bias": ([50.0, 100.0, 200.0], "tilt", "inclination"),
-    "tilt acc_bias_sigma": ([0.0, 0.2, 0.5], "tilt", "inclination"),
+    "tilt acc_bias_sigma": ([0.0, 0.1, 0.2, 0.5], "tilt", "inclination"),
     "tilt scale_sigma_init": ([0.0, 0.002, 0.005, 0.01, 0.02], "tilt", "inclination"),
 }
 

@@ -44,7 +44,7 @@ accelerometer, or inclinometer angles):
    30°/s turntable it learnt nothing, 2.8° against VQF's 1.0°; and its fixed gain was slow from the start:
    8.5° against 6.5° with a 5°/s bias.)  The scale factors matter in fast, sustained rotation, where a 1 %
    error turns the frame by 1 % of the rotation: on BROAD they take the inclination error from 0.764° to
-   0.648°; on the simulated test-bed (random motion, 0.3-0.5 % scale errors) they change little.  The
+   0.646°; on the simulated test-bed (random motion, 0.3-0.5 % scale errors) they change little.  The
    measurement noise density is ``tau_bias · bias_noise``, so that once the bias is known the loop forgets
    over ``tau_bias``; at rest ``tau_rest_bias · bias_noise``.  The regressor has no vertical row, so in motion
    the component along the vertical is learnt only as the body tilts.  The noise grows with the correction rate
@@ -275,8 +275,8 @@ class TiltParams:
     tau_acc : float
         Time constant of the tilt sensor's low-pass filter (second-order Butterworth, cutoff √2/tau_acc rad/s)
         in the almost-inertial frame, s.  Longer rejects more linear acceleration, shorter follows a drifting
-        gyro closer.  Default 3.0, VQF's for the same filter (on BROAD 3.0-3.5 s give 0.645-0.648°; held out by
-        leave-one-group-out 0.650°).
+        gyro closer.  Default 3.0, VQF's for the same filter (on BROAD 3.0-3.5 s give 0.644-0.646°; held out by
+        leave-one-group-out 0.654°).
     tau_bias : float
         Time constant of the gyro-bias learning in motion once the bias is known (the steady state of the drift
         loop's Kalman filter: its measurement noise density is tau_bias · bias_noise), s; 0 disables it.
@@ -299,7 +299,7 @@ class TiltParams:
     scale_sigma_init : float
         Spread of the gyro's scale-factor errors before any data (dimensionless; the gyro reads (1 + s) ω + b).
         Default 0.01, a consumer MEMS gyro's sensitivity tolerance (±1-3 % on datasheets), chosen by
-        leave-one-group-out on BROAD (0: 0.764°, 0.002: 0.699°, 0.005: 0.659°, 0.01: 0.648°, 0.02: 0.678°); 0
+        leave-one-group-out on BROAD (0: 0.764°, 0.002: 0.699°, 0.005: 0.658°, 0.01: 0.646°, 0.02: 0.674°); 0
         turns the scale estimation off.
     scale_noise : float
         Random walk of the scale-factor errors, 1/√s.  Default 1e-5 (the AttitudeEstimator's).

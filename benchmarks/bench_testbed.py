@@ -1,6 +1,6 @@
-"""A simulated test-bed for the AttitudeEstimator and VQF, side by side, condition by condition (issue 13).
+"""A simulated test-bed for the AttitudeEstimator, the TiltEstimator and VQF, side by side, per condition (issue 13).
 
-    python benchmarks/bench_testbed.py [--seeds 3] [--json results.json]
+    python benchmarks/bench_testbed.py [--seeds 3] [--tilt-params '{"tau_acc": 2.5}'] [--json results.json]
 
 Each condition varies one thing real data vary, from a common base: a consumer-grade MEMS IMU
 (``ImuModel.consumer_mems()``: noise, bias, scale and cross-axis errors, quantisation; its magnetometer
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from strapdown.fusion import attitude, attitude_offline
+from strapdown.fusion import TiltParams, attitude, attitude_offline, tilt
 from strapdown.metrics import attitude_errors
 from strapdown.simulate import (
     ClockModel,
@@ -193,7 +193,7 @@ def conditions():
     return c
 
 
-def run_condition(make, seed: int) -> dict:
+def run_condition(make, seed: int, tilt_params=None) -> dict:
     from vqf import VQF, offlineVQF
 
     traj, rate, imu, disturbances, drop, settle, *rest = make(seed)
@@ -221,6 +221,7 @@ def run_condition(make, seed: int) -> dict:
         "ours 6D": attitude(g, a, t=tr, params=params).q,
         "ours 9D": attitude(g, a, m, t=tr, params=params).q,
         "VQF 6D": VQF(dt).updateBatch(g, a)["quat6D"],
+        "Tilt 6D": tilt(g, a, t=tr, params=TiltParams(**(tilt_params or {}))).q,
         "VQF 9D": VQF(dt).updateBatch(g, a, m)["quat9D"],
     }
     est["ours offline 9D"] = est["ours offline 6D"] = attitude_offline(g, a, m, t=tr, params=params).q
@@ -239,6 +240,7 @@ def run_condition(make, seed: int) -> dict:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--tilt-params", type=json.loads, help="TiltParams overrides as JSON, e.g. '{\"tau_acc\": 2.5}'")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     try:
@@ -250,11 +252,12 @@ def main(argv=None):
     # (ours, reference, mode) compared per condition
     pairs = (
         ("ours 6D", "VQF 6D", "6D"),
+        ("Tilt 6D", "VQF 6D", "Tilt"),
         ("ours 9D", "VQF 9D", "9D"),
         ("ours offline 6D", "offlineVQF 6D", "off 6D"),
         ("ours offline 9D", "offlineVQF 9D", "off 9D"),
     )
-    names = [n for pair in pairs for n in pair[:2]]
+    names = list(dict.fromkeys(n for pair in pairs for n in pair[:2]))
     short = {
         "ours offline 6D": "off 6D",
         "offlineVQF 6D": "oVQF 6D",
@@ -269,7 +272,7 @@ def main(argv=None):
     results = {}
     wins = {mode: 0 for *_, mode in pairs}
     for label, make in conditions().items():
-        per_seed = [run_condition(make, seed) for seed in range(args.seeds)]
+        per_seed = [run_condition(make, seed, args.tilt_params) for seed in range(args.seeds)]
         means = {n: float(np.mean([r[n] for r in per_seed])) for n in names}
         better = []
         for ours, ref, mode in pairs:

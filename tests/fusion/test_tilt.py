@@ -150,13 +150,15 @@ def converged_after(bias, true, rel=0.01):
 
 
 def test_horizontal_bias_converges_vertical_is_unobservable():
-    # rocking in place: the patent's drift loop alone (never at rest); tau_bias = 30 s
-    data = platform(300.0, driving=False)
-    est = tilt(data.gyro, data.acc, dt=0.01, params=TiltParams(tau_bias=30.0))
+    # rocking in place: the patent's drift loop alone (never at rest), defaults (tau_bias = 100 s)
+    data = platform(400.0, driving=False)
+    est = tilt(data.gyro, data.acc, dt=0.01)
     assert not (est.flags & FLAG_REST).any()
     k = converged_after(est.bias[:, :2], BIAS)
-    assert k < 5 * 30 * 100  # within 1 % on both horizontal axes after < 5 tau_bias (measured: 132 s)
-    assert abs(est.bias[-1, 2]) < 0.1 * BIAS  # vertical: not learnt in motion
+    # within 1 % on both horizontal axes after < 3.5 tau_bias (measured: 303 s; 269 s without the scale states,
+    # which share the information)
+    assert k < 3.5 * 100 * 100
+    assert np.abs(est.bias[:, 2]).max() < 0.1 * BIAS  # vertical: not learnt in motion (measured 0.05)
     e = attitude_errors(est.q, data.q_true[1:])["inclination"]
     assert np.degrees(np.abs(e[k:])).max() < 0.3
 
@@ -165,10 +167,9 @@ def test_driving_needs_the_known_acceleration():
     # driving and turning: the centripetal and speed-change accelerations bias the tilt unless subtracted
     data = platform(400.0, driving=True)
     known = kinematic_acceleration(data)
-    p = TiltParams(tau_bias=30.0)
-    with_known = tilt(data.gyro, data.acc, dt=0.01, params=p, known_acc=known)
-    without = tilt(data.gyro, data.acc, dt=0.01, params=p)
-    assert converged_after(with_known.bias[:, :2], BIAS) < 10 * 30 * 100  # measured: 265 s
+    with_known = tilt(data.gyro, data.acc, dt=0.01, known_acc=known)
+    without = tilt(data.gyro, data.acc, dt=0.01)
+    assert converged_after(with_known.bias[:, :2], BIAS) < 4 * 100 * 100  # measured: 360 s
     half = slice(20000, None)
     incl_known = np.degrees(attitude_errors(with_known.q[half], data.q_true[1:][half])["inclination"])
     incl_without = np.degrees(attitude_errors(without.q[half], data.q_true[1:][half])["inclination"])
@@ -322,3 +323,147 @@ def test_the_rate_is_interpolated_across_lost_rows():
     est = TiltEstimator(params, q0=truth[0]).update(gyr[keep], acc[keep], t=tk[keep])
     err = np.degrees(attitude_errors(est.q, truth[keep])["total"])
     assert err.max() < 0.003  # measured 0.0023° (the nominal interval starts following runs of lost rows)
+
+
+def test_nan_rows_hold_the_filter():
+    # a body turning every way with a consumer IMU, 10 % of the accelerometer rows NaN ("no sample"): flagged,
+    # and the inclination error within 10 % of the complete record's (issue 13; the filter steps over each gap)
+    from strapdown.simulate import RandomMotion
+
+    imu = ImuModel.consumer_mems()
+    data = sample(
+        RandomMotion(duration=120.0, seed=4), 100.0, gyro="average", imu=imu, seed=4, reference="ENU", body="FLU"
+    )
+    acc = data.acc.copy()
+    gone = np.random.default_rng(5).random(len(acc)) < 0.1
+    gone[0] = False
+    acc[gone] = np.nan
+    full = tilt(data.gyro, data.acc, dt=0.01)
+    holed = tilt(data.gyro, acc, dt=0.01)
+    assert np.isfinite(holed.q).all()
+    np.testing.assert_array_equal((holed.flags & FLAG_ACC_REJECTED) > 0, gone)
+    late = slice(1000, None)
+
+    def rms(est):
+        return np.sqrt(np.mean(attitude_errors(est.q[late], data.q_true[1:][late])["inclination"] ** 2))
+
+    assert rms(holed) == pytest.approx(rms(full), rel=0.1)
+    assert np.degrees(rms(full)) < 4.0  # the scale of it (measured 2.47°, with 10 % NaN 2.47°)
+    # a NaN first row: the first sample present initialises the tilt
+    acc[0] = np.nan
+    first = tilt(data.gyro, acc, dt=0.01)
+    assert np.isfinite(first.q).all() and first.flags[0] & FLAG_ACC_REJECTED
+
+
+def test_nan_inclinometer_rows_and_partial_rows():
+    n = 400
+    pr = np.tile([0.1, -0.2], (n, 1))
+    pr[::3] = np.nan
+    est = TiltEstimator().update(np.zeros((n, 3)), pitch_roll=pr, dt=0.01)
+    np.testing.assert_allclose(est.pitch, 0.1, atol=1e-9)
+    np.testing.assert_allclose(est.roll, -0.2, atol=1e-9)
+    pr[4, 1] = np.nan  # half a row
+    with pytest.raises(ValueError, match=r"pitch_roll\[4\] = \[0.1, nan\]: a row must be finite, or all NaN"):
+        TiltEstimator().update(np.zeros((n, 3)), pitch_roll=pr, dt=0.01)
+    acc = np.tile([0.0, 0.0, G], (n, 1))
+    acc[7, 2] = np.nan
+    with pytest.raises(ValueError, match=r"acc\[7\] is partly NaN"):
+        tilt(np.zeros((n, 3)), acc, dt=0.01)
+
+
+def test_on_a_turntable_the_horizontal_bias_is_learnt_through_the_filter_lag():
+    # 30°/s about the vertical: within the low-pass's lag (~tau_acc) the body turns by ~90°, so feeding the
+    # correction back through the current attitude sends it to the wrong axis; the regressor run through the
+    # same low-pass (module notes, 4) learns the two horizontal components anyway
+    from strapdown.simulate import ConstantRotation
+
+    bias = np.radians([0.6, -0.8, 0.0])
+    data = sample(
+        ConstantRotation(np.radians([0.0, 0.0, 30.0]), duration=600.0),
+        100.0,
+        gyro="average",
+        imu=ImuModel(gyro=TriadModel(bias=bias)),
+        reference="ENU",
+        body="FLU",
+    )
+    est = tilt(data.gyro, data.acc, dt=0.01)
+    # within 2 % after 6 tau_bias (measured 1.2 %; VQF 0.5 %, its regression is the same)
+    np.testing.assert_allclose(est.bias[-1000:, :2].mean(axis=0), bias[:2], atol=0.02 * np.abs(bias).max())
+    e = np.degrees(attitude_errors(est.q[-6000:], data.q_true[1:][-6000:])["inclination"])
+    assert e.max() < 0.1
+
+
+def test_a_state_saved_before_the_kalman_drift_loop_restores():
+    # the keys added since (bias covariance, drift-loop filter, block, start, missing-sample bookkeeping) take
+    # defaults: the restored filter carries on within a small fraction of the uninterrupted one
+    data = platform(60.0, driving=True)
+    whole = tilt(data.gyro, data.acc, dt=0.01)
+    f = TiltEstimator()
+    f.update(data.gyro[:3000], data.acc[:3000], dt=0.01)
+    saved = f.state
+    for key in ("covariance", "scale", "drift_filter", "block_seconds", "acc_start", "acc_interval", "acc_previous"):
+        del saved[key]
+    g = TiltEstimator()
+    g.state = saved
+    rest = g.update(data.gyro[3000:], data.acc[3000:], dt=0.01)
+    assert np.isfinite(rest.q).all()
+    # the covariance restarts at bias_sigma_init, so the bias is relearnt: the inclination stays as good as the
+    # uninterrupted filter's (driving without the known acceleration: ~1° either way)
+
+    def rms(q):
+        return np.degrees(np.sqrt(np.mean(attitude_errors(q, data.q_true[1:][3000:])["inclination"] ** 2)))
+
+    assert rms(rest.q) < 1.2 * rms(whole.q[3000:])
+
+
+def test_a_gyro_scale_error_is_learnt_in_sustained_rotation():
+    # rolling about the (horizontal) x axis at 1.5 ± 0.7 rad/s with the gyro reading 1 % high: the frame turns
+    # by 1 % of the rotation, a bias error that changes with the rate; the scale state learns it (the bias
+    # alone absorbs its mean, 1 % of 1.5 rad/s, and leaves the rest to the tilt)
+    dt, n = 0.01, 30000
+    tk = np.arange(1, n + 1) * dt
+    theta = 1.5 * tk - (0.7 / 0.3) * (np.cos(0.3 * tk) - 1)  # ∫ 1.5 + 0.7 sin(0.3 t)
+    gyr = np.zeros((n, 3))
+    gyr[:, 0] = 1.01 * np.diff(theta, prepend=0.0) / dt  # the mean rate over each step, read 1 % high
+    truth = np.column_stack([np.cos(theta / 2), np.sin(theta / 2), 0 * theta, 0 * theta])
+    acc = np.column_stack([0 * theta, G * np.sin(theta), G * np.cos(theta)])
+
+    def run(params):
+        f = TiltEstimator(params, q0=truth[0])
+        est = f.update(gyr, acc, dt=dt)
+        e = np.degrees(attitude_errors(est.q[-10000:], truth[-10000:])["inclination"])
+        return f, np.sqrt(np.mean(e**2))
+
+    f, rms = run(TiltParams())
+    assert f.scale[0] == pytest.approx(0.01, rel=0.1)  # measured 0.0094 after 300 s
+    off, rms_off = run(TiltParams(scale_sigma_init=0.0))
+    assert off.bias[0] == pytest.approx(0.015, rel=0.1)  # without: the bias takes the mean (measured 0.0147)
+    assert rms < 0.1 < 0.5 < rms_off  # measured 0.057° and 0.88°
+
+
+def test_an_accelerometer_bias_on_a_turntable_is_learnt_as_a_gyro_bias():
+    # ideal gyro, accelerometer bias b_a, 30°/s about the vertical: the apparent gravity offset b_a/g, fixed in
+    # the body, turns with it, and the correction follows at |ω| |b_a|/g, which the drift loop takes for a gyro
+    # bias of that size (closed form; 6D cannot tell the two apart).  acc_bias_sigma trusts the loop less as
+    # the body turns, so it learns less of it and the tilt is better.
+    from strapdown.simulate import ConstantRotation
+
+    acc_bias, rate = np.array([0.2, -0.15, 0.0]), np.radians(30.0)
+    data = sample(
+        ConstantRotation([0.0, 0.0, rate], duration=300.0),
+        100.0,
+        gyro="average",
+        imu=ImuModel(accel=TriadModel(bias=acc_bias)),
+        reference="ENU",
+        body="FLU",
+    )
+
+    def run(sigma):
+        est = tilt(data.gyro, data.acc, dt=0.01, params=TiltParams(acc_bias_sigma=sigma))
+        e = attitude_errors(est.q[-10000:], data.q_true[1:][-10000:])["inclination"]
+        return np.linalg.norm(est.bias[-1, :2]), np.sqrt(np.mean(e**2))
+
+    false_bias, incl = run(0.0)
+    assert false_bias == pytest.approx(rate * np.linalg.norm(acc_bias) / G, rel=0.05)  # measured 3 % short
+    less, incl_less = run(0.2)
+    assert less < false_bias and incl_less < incl

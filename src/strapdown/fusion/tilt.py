@@ -19,28 +19,52 @@ accelerometer, or inclinometer angles):
 2. The tilt-sensor vector (accelerometer minus any known kinematic acceleration) is rotated into that frame
    and low-passed over ``tau_acc`` seconds by a second-order Butterworth filter stepped exactly over each
    interval (``lowpass2``; it replaced two first-order stages, whose slower roll-off let more acceleration
-   through: BROAD 0.80° -> 0.76°).  There, linear acceleration averages out (velocity stays bounded)
-   while gravity does not.  This is the idea of VQF (Laidig & Seel, Information Fusion 2023), and it is what
-   makes the tilt survive sustained accelerations that defeat a proportional loop on the raw accelerometer.
+   through: BROAD 0.80° -> 0.76°).  There, linear acceleration averages out (velocity stays bounded) while
+   gravity does not.  This is the idea of VQF (Laidig & Seel, Information Fusion 2023), and it is what makes
+   the tilt survive sustained accelerations that defeat a proportional loop on the raw accelerometer.  For
+   the first ``tau_acc`` seconds the output is the plain mean of the samples instead (VQF's start): a filter
+   started at the first sample would carry that sample's linear acceleration for several tau_acc (simulated
+   start at 2 m/s²: 3.2° -> 2.6°).
 3. ``q_c`` is the tilt quaternion that turns the filtered vector vertical (math.md §5.5: the patent's tilt
    sensor -> tilt quaternion, applied to the filtered vector).  The estimate is ``q_c ⊗ q_g``, reported as its
    tilt quaternion, pitch and roll; its heading is the gyro's and drifts, unobservable without a heading
    reference.
-4. The gyro bias is learnt two ways.  At rest (gyro and tilt sensor steady for ``rest_time``) it follows the
-   low-passed raw gyro on all three axes.  In motion, the patent's drift loop: when the bias estimate is off,
-   the almost-inertial frame turns and the correction ``q_c`` has to turn with it at the rate of the error, so
-   the correction rate, taken to body axes, is fed back with time constant ``tau_bias``.  That rate has no
-   component about the vertical, so in motion only the two horizontal components of the bias are observable;
-   the vertical one is learnt only at rest.  ``bias_limit`` is a prior's bound, not a clip: the estimate leaks
-   towards zero over ten hours (a Gauss-Markov bias) and is flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so
-   a real 4.5°/s bias is learnt instead of held at the limit.
+4. The gyro bias b and scale-factor errors s (the gyro reads (1 + s) ω + b; q_g integrates the rate so
+   corrected) are a Kalman filter's state (covariance P; random walks ``bias_noise`` and ``scale_noise``,
+   starting spreads ``bias_sigma_init`` and ``scale_sigma_init``), updated every 0.1 s from one of two
+   measurements.  At rest (gyro and tilt sensor steady for ``rest_time``) the 0.5 s gyro mean measures b on
+   all three axes.  In motion, the patent's drift loop: when the estimates are off by δb and δs, the
+   almost-inertial frame turns at R (δb + δs ∘ ω) (reference axes, R the attitude's matrix) and the
+   correction q_c turns with it, through the tilt sensor's low-pass: its mean rate over the block is
+   -LP[R (δb + δs ∘ ω)], horizontal.  So y = -rate + LP[R (b̂ + ŝ ∘ ω)] measures LP[R] b + LP[R diag ω] s,
+   with the two horizontal rows of LP[R] and LP[R diag ω] as the regressor (VQF's regression for the bias;
+   the AttitudeEstimator's for both): R, R diag ω and the prediction are run through the same low-pass as
+   the tilt sensor, so the filter's lag is modelled, and taken at the block's middle.  (The patent's loop as
+   first built fed the rate back through the current R, which is wrong by the rotation during the lag: on a
+   30°/s turntable it learnt nothing, 2.8° against VQF's 1.0°; and its fixed gain was slow from the start:
+   8.5° against 6.5° with a 5°/s bias.)  The scale factors matter in fast, sustained rotation, where a 1 %
+   error turns the frame by 1 % of the rotation: on BROAD they take the inclination error from 0.764° to
+   0.646°; on the simulated test-bed (random motion, 0.3-0.5 % scale errors) they change little.  The
+   measurement noise density is ``tau_bias · bias_noise``, so that once the bias is known the loop forgets
+   over ``tau_bias``; at rest ``tau_rest_bias · bias_noise``.  The regressor has no vertical row, so in motion
+   the component along the vertical is learnt only as the body tilts.  The noise grows with the correction rate
+   an accelerometer bias of ``acc_bias_sigma`` would cause as the body turns: its apparent gravity offset
+   b_a/g, fixed in the body, turns with it and moves the correction as a gyro bias would (the
+   AttitudeEstimator's finding on the test-bed).  ``bias_limit``
+   is a prior's bound, not a clip: the bias leaks towards zero over ten hours (a Gauss-Markov bias) and is
+   flagged ``FLAG_BIAS_AT_LIMIT`` beyond the bound, so a real 4.5°/s bias is learnt instead of held at the
+   limit; each in-motion innovation is clipped to it (a correction faster than any plausible bias is no
+   bias: the start, a shock).
 5. Irregular sampling: every coefficient is computed for its interval, and over an interval that holds lost
    rows the gyro rate is interpolated across the gap (as in the AttitudeEstimator, whose notes explain it).
+   A NaN row of ``acc`` (or ``pitch_roll``) means no tilt-sensor sample then (sensors at different rates): it
+   holds the filter, as a sample the gate rejects does (both flagged ``FLAG_ACC_REJECTED``), and the next
+   sample steps it over the whole time since; the rest detector holds the last sample present.
 
 Where the patent leaves the design open (its gains and rates were not retrieved, math.md §5.6), these choices
-are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule; 0.758° mean
-inclination RMSE, against 0.764° for VQF in the same run; ``tau_acc`` by leave-one-group-out,
-benchmarks/bench_attitude.py).
+are ours.  Parameters were chosen once on the 22 BROAD trials with one common set (BROAD's rule) and checked by
+leave-one-group-out and on the simulated test-bed against VQF (benchmarks/bench_attitude.py,
+benchmarks/bench_testbed.py; figures in docs/guide/estimators.md).
 """
 
 from __future__ import annotations
@@ -52,7 +76,7 @@ import numpy as np
 from .. import _validate as _v
 from ..euler import from_euler
 from ..quaternion import rotate
-from ._base import GRAVITY, Estimate, Estimator, float32_if
+from ._base import GRAVITY, Estimate, Estimator, _back_to_first_sample, _first_present, float32_if
 
 __all__ = [
     "TiltEstimator",
@@ -251,13 +275,12 @@ class TiltParams:
     tau_acc : float
         Time constant of the tilt sensor's low-pass filter (second-order Butterworth, cutoff √2/tau_acc rad/s)
         in the almost-inertial frame, s.  Longer rejects more linear acceleration, shorter follows a drifting
-        gyro closer.  Default 3.0, VQF's for the same filter (on BROAD 2.5-3.0 s give 0.75-0.76°).
+        gyro closer.  Default 3.0, VQF's for the same filter (on BROAD 3.0-3.5 s give 0.644-0.646°; held out by
+        leave-one-group-out 0.654°).
     tau_bias : float
-        Time constant of the gyro-bias learning in motion (the patent's integral drift loop), s; 0 disables
-        it.  Default 100.  On a rocking platform the two horizontal components come within 1 % of a constant
-        bias after about 4.5 tau_bias, after about 9 tau_bias when the platform also turns (it rotates the error
-        against the lag of the filter); benchmarks/bench_estimators.py.  Shorter learns faster but lets
-        sustained accelerations leak into the bias.
+        Time constant of the gyro-bias learning in motion once the bias is known (the steady state of the drift
+        loop's Kalman filter: its measurement noise density is tau_bias · bias_noise), s; 0 disables it.
+        Default 100 (VQF's).  Shorter learns faster but lets sustained accelerations leak into the bias.
     rest_gyro : float
         Rest detection: largest deviation of the gyro from its 0.5 s mean, rad/s.  Default 2°/s.
     rest_acc : float
@@ -265,12 +288,35 @@ class TiltParams:
     rest_time : float
         Seconds of steadiness before rest is declared.  Default 1.5.
     tau_rest_bias : float
-        Time constant with which the bias follows the gyro at rest, s.  Default 1.0.
+        Time constant with which the bias follows the gyro at rest once known (the rest measurement's noise
+        density is tau_rest_bias · bias_noise), s.  Default 1.0.
+    bias_sigma_init : float
+        Standard deviation of the bias before any data, per axis, rad/s: how fast the first seconds learn it.
+        Default 0.5°/s (VQF's).
+    bias_noise : float
+        The bias's random walk, rad/s/√s: how fast what was learnt is forgotten.  Default 0.01°/s/√s (VQF's:
+        0.1°/s in 100 s), five times a consumer gyro's rate random walk, for temperature drift.
+    scale_sigma_init : float
+        Spread of the gyro's scale-factor errors before any data (dimensionless; the gyro reads (1 + s) ω + b).
+        Default 0.01, a consumer MEMS gyro's sensitivity tolerance (±1-3 % on datasheets), chosen by
+        leave-one-group-out on BROAD (0: 0.764°, 0.002: 0.699°, 0.005: 0.658°, 0.01: 0.646°, 0.02: 0.674°); 0
+        turns the scale estimation off.
+    scale_noise : float
+        Random walk of the scale-factor errors, 1/√s.  Default 1e-5 (the AttitudeEstimator's).
+    acc_bias_sigma : float
+        Accelerometer bias believed, per axis, m/s² (default 0.1, 10 mg: a consumer part after its factory
+        calibration; 0 ignores it).  Its apparent gravity offset, fixed in the body, turns the correction as the
+        body turns, at a rate up to |dLP[R]/dt| acc_bias_sigma/g, which the drift loop would learn as a gyro
+        bias (on a turntable it is exactly one, (ω × b_a)/g); the loop's measurement noise grows by that rate,
+        coloured over tau_acc (module notes, 4).  On the simulated test-bed 0.1 keeps every condition within
+        0.3 % of VQF or better (0: turntable 2 % worse; 0.2: ideal IMU 2.4 % worse; 0.5: up to 10 %); on BROAD
+        0: 0.648°, 0.1: 0.646°, 0.2: 0.642°, 0.5: 0.639°, the gain all in the attached-magnet trials, so that
+        leave-one-group-out picks 0.5 in eight folds and 0 in the ninth (held out 0.654°).
     bias_limit : float
         Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
         pulled towards zero over ten hours (a Gauss-Markov bias), so a larger bias the data show is learnt, and
         flagged ``FLAG_BIAS_AT_LIMIT`` while it lies beyond the bound; a steady mean rate up to three times it
-        counts as a bias at rest.
+        counts as a bias at rest, and each in-motion innovation of the drift loop is clipped to it.
     acc_gate : float
         Leave the tilt sensor out of the low-pass filter when its magnitude differs from g by more than this,
         m/s² (a gate against shocks); inf keeps every sample.  Default inf.
@@ -284,9 +330,23 @@ class TiltParams:
     tau_rest_bias: float = 1.0
     bias_limit: float = float(np.radians(2.0))
     acc_gate: float = np.inf
+    bias_sigma_init: float = float(np.radians(0.5))
+    bias_noise: float = float(np.radians(0.01))
+    acc_bias_sigma: float = 0.1
+    scale_sigma_init: float = 0.01
+    scale_noise: float = 1e-5
 
     def __post_init__(self):
-        positive = ("tau_acc", "rest_gyro", "rest_acc", "tau_rest_bias", "bias_limit", "acc_gate")
+        positive = (
+            "tau_acc",
+            "rest_gyro",
+            "rest_acc",
+            "tau_rest_bias",
+            "bias_limit",
+            "acc_gate",
+            "bias_sigma_init",
+            "bias_noise",
+        )
         for name in positive:
             v = getattr(self, name)
             if not (v > 0 and not np.isnan(v)):
@@ -295,6 +355,10 @@ class TiltParams:
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be a non-negative number of seconds, got {v!r}")
+        for name in ("acc_bias_sigma", "scale_sigma_init", "scale_noise"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be a non-negative number, got {v!r}")
 
 
 class TiltEstimator(Estimator):
@@ -321,11 +385,15 @@ class TiltEstimator(Estimator):
     (radians) are computed from ``q`` when asked for.
 
     ``.state`` (readable and assignable) holds the estimate ``q`` = ``q_correction ⊗ q_gyro``, the gyro-frame
-    attitude ``q_gyro``, the correction ``q_correction`` (a tilt quaternion, e3 = 0) and its previous value
-    ``q_correction_previous`` (the drift loop runs one sample late, see the kernel), ``bias`` (rad/s),
-    ``acc_filter`` (2, 3) (the low-pass filter's rate, m/s³, and output, m/s², almost-inertial frame),
-    ``rest_filter`` (6,) (0.5 s means of gyro and tilt sensor), ``rest_seconds``, ``gyro_previous`` (3,) and
-    ``nominal_interval`` (the rate interpolation across lost rows), all in ENU.
+    attitude ``q_gyro``, the correction ``q_correction`` (a tilt quaternion, e3 = 0) and its value at the start
+    of the drift loop's block ``q_correction_previous``, ``bias`` (rad/s) and ``scale`` (the Kalman filter's
+    states) and their ``covariance`` (6, 6), ``acc_filter`` (2, 3) (the low-pass filter's rate, m/s³, and
+    output, m/s², almost-inertial frame), ``acc_start`` (5,) (its plain mean at the start), ``drift_filter``
+    (2, 14) (the drift loop's low-pass of its regressors, rates and outputs) and ``block_seconds``,
+    ``rest_filter`` (6,) (0.5 s means of gyro and tilt sensor), ``rest_seconds``, ``gyro_previous`` (3,),
+    ``nominal_interval``, ``acc_interval`` and ``acc_previous`` (3,) (lost rows and missing samples), all in
+    ENU.  A state saved before the Kalman drift loop existed restores (the new entries start afresh: the
+    covariance at its initial value, so the bias is relearnt).
 
     Examples
     --------
@@ -350,9 +418,28 @@ class TiltEstimator(Estimator):
         ("rest_seconds", ()),
         ("gyro_previous", (3,)),
         ("nominal_interval", ()),
+        ("acc_interval", ()),
+        ("acc_previous", (3,)),
+        ("covariance", (6, 6)),
+        ("scale", (3,)),
+        ("drift_filter", (2, 14)),
+        ("block_seconds", ()),
+        ("acc_start", (5,)),
     )
     _unit_keys = ("q", "q_gyro", "q_correction", "q_correction_previous")
-    _optional_keys = ("gyro_previous", "nominal_interval")  # states saved before these existed restore too
+    # states saved before these existed restore too
+    _optional_keys = (
+        "gyro_previous",
+        "nominal_interval",
+        "acc_interval",
+        "acc_previous",
+        "covariance",
+        "scale",
+        "drift_filter",
+        "block_seconds",
+        "acc_start",
+    )
+    missing_samples = True  # a NaN row of acc (or pitch_roll): no tilt-sensor sample then
 
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)
@@ -368,7 +455,7 @@ class TiltEstimator(Estimator):
         gyr : array_like, shape (N, 3)
             Angular rate, rad/s.
         acc : array_like, shape (N, 3), optional
-            Specific force, m/s²; or give ``pitch_roll``.
+            Specific force, m/s² (NaN rows: no sample); or give ``pitch_roll``.
         mag : None
             Not used: the tilt needs no magnetometer (given, it is an error).
         dt, t : optional
@@ -376,7 +463,7 @@ class TiltEstimator(Estimator):
         known_acc : array_like, shape (N, 3), optional
             Kinematic acceleration to subtract from ``acc``, sensor axes, m/s².
         pitch_roll : array_like, shape (N, 2), optional
-            Inclinometer pitch and roll instead of ``acc``.
+            Inclinometer pitch and roll instead of ``acc`` (NaN rows: no sample).
         degrees : bool
             ``pitch_roll`` in degrees.
 
@@ -394,14 +481,19 @@ class TiltEstimator(Estimator):
             raise ValueError(f"gyr must have shape (N, 3), got {gyr_arr.shape}")
         n = gyr_arr.shape[0]
         if pitch_roll is not None:
-            pr = _v.finite(pitch_roll, "pitch_roll", dtype=np.float64)
+            pr = _v.finite(pitch_roll, "pitch_roll", check=False, dtype=np.float64)
             if pr.shape != (n, 2):
                 raise ValueError(f"pitch_roll must have shape (N, 2) = ({n}, 2), got {pr.shape}")
-            q_pr = from_euler(np.column_stack([np.zeros(n), pr]), "ZYX", degrees)
+            absent = np.isnan(pr).all(axis=1)  # a NaN row: no inclinometer sample then
+            if not np.isfinite(pr[~absent]).all():
+                i = int(np.flatnonzero(~absent & ~np.isfinite(pr).all(axis=1))[0])
+                raise ValueError(f"pitch_roll[{i}] = {pr[i].tolist()}: a row must be finite, or all NaN for no sample")
+            q_pr = from_euler(np.column_stack([np.zeros(n), np.where(absent[:, None], 0.0, pr)]), "ZYX", degrees)
             up_out = rotate(self._to_out, [0.0, 0.0, 1.0])  # the frame's "up" ("ENU": z; "NED": -z)
             acc_arr = GRAVITY * rotate(q_pr * [1.0, -1.0, -1.0, -1.0], np.broadcast_to(up_out, (n, 3)))
+            acc_arr[absent] = np.nan
         else:
-            acc_arr = _v.vectors(acc, "acc", dtype=np.float64)
+            acc_arr = _v.vectors(acc, "acc", check=False, dtype=np.float64)  # NaN rows: no sample (checked later)
             if known_acc is not None:
                 known = _v.vectors(known_acc, "known_acc", dtype=np.float64)
                 if known.shape != acc_arr.shape:
@@ -411,7 +503,10 @@ class TiltEstimator(Estimator):
         return float32_if(est, gyr, pitch_roll if acc is None else acc)
 
     def _new_state(self, q, gyr, acc, mag, dts, extra_in):
-        a_i = rotate(q, acc[0])
+        # the first tilt-sensor sample present, turned back to the axes of the first sample (q's)
+        k = _first_present(acc, "acc")
+        a0 = _back_to_first_sample(gyr, dts, k, acc[k])
+        a_i = rotate(q, a0)
         return {
             "q": q.copy(),  # the estimate q_c ⊗ q_g
             "q_gyro": q.copy(),  # q_g: sensor -> almost-inertial frame
@@ -419,16 +514,33 @@ class TiltEstimator(Estimator):
             "q_correction_previous": np.array([1.0, 0.0, 0.0, 0.0]),  # q_c one sample earlier (drift loop)
             "bias": self._bias0.copy(),
             "acc_filter": np.array([np.zeros(3), a_i]),  # the low-pass's rate and output, almost-inertial frame
-            "rest_filter": np.concatenate([np.zeros(3), acc[0]]),  # 0.5 s means of gyro and tilt sensor
+            "rest_filter": np.concatenate([np.zeros(3), a0]),  # 0.5 s means of gyro and tilt sensor
             "rest_seconds": 0.0,
             "gyro_previous": np.zeros(3),  # the last gyro sample, rad/s (rate interpolation across lost rows)
             "nominal_interval": 0.0,  # s, the shortest recent sample interval (0: none yet)
+            "acc_interval": 0.0,  # s since the last tilt-sensor sample the filter took
+            "acc_previous": a0.copy(),  # the last tilt-sensor sample present (rest detection)
+            "covariance": self._covariance0(),  # of the bias (rad/s) and scale-factor errors
+            "scale": np.zeros(3),  # the gyro scale-factor errors (it reads (1 + s) ω + b)
+            "drift_filter": _drift_filter(q, self._bias0),  # the drift loop's low-pass (rates, outputs)
+            "block_seconds": 0.0,  # s into the drift loop's block
+            # the start's plain mean over tau_acc: seconds so far (-1: over), sum of the samples in I, count
+            "acc_start": np.zeros(5),
         }
+
+    def _covariance0(self) -> np.ndarray:
+        p = self.params
+        return np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3)
 
     @property
     def bias(self) -> np.ndarray | None:
         """The current gyro bias estimate, rad/s (sensor axes)."""
         return None if self._state is None else self._state["bias"].copy()
+
+    @property
+    def scale(self) -> np.ndarray | None:
+        """The current gyro scale-factor error estimate (dimensionless: the gyro reads (1 + s) ω + b)."""
+        return None if self._state is None else self._state.get("scale", np.zeros(3)).copy()
 
     def _run(self, gyr, acc, mag, dts, extra_in):
         from . import _tilt_numba as k
@@ -439,6 +551,7 @@ class TiltEstimator(Estimator):
         flags = np.empty(n, dtype=np.uint8)
         p = self.params
         st = self._state
+        cov = st.get("covariance", self._covariance0())
         s = np.concatenate(
             [
                 st["q_gyro"],
@@ -451,6 +564,13 @@ class TiltEstimator(Estimator):
                 [st["rest_seconds"]],
                 st.get("gyro_previous", np.zeros(3)),  # states saved before these existed restore too
                 [st.get("nominal_interval", 0.0)],
+                [st.get("acc_interval", 0.0)],
+                st.get("acc_previous", st["rest_filter"][3:]),
+                cov.ravel(),
+                st.get("drift_filter", _drift_filter(st["q"], st["bias"])).ravel(),
+                [st.get("block_seconds", 0.0)],
+                st.get("acc_start", [-1.0, 0.0, 0.0, 0.0, 0.0]),
+                st.get("scale", np.zeros(3)),
             ]
         )
         k.run(
@@ -464,6 +584,9 @@ class TiltEstimator(Estimator):
             p.tau_rest_bias,
             p.tau_bias,
             p.bias_limit,
+            p.bias_noise,
+            p.scale_noise,
+            p.acc_bias_sigma,
             GRAVITY,
             p.acc_gate,
             self._to_out,
@@ -480,7 +603,22 @@ class TiltEstimator(Estimator):
         st["rest_seconds"] = float(s[k.REST])
         st["gyro_previous"] = s[k.GPREV : k.GPREV + 3].copy()
         st["nominal_interval"] = float(s[k.NOMDT])
+        st["acc_interval"] = float(s[k.ATIME])
+        st["acc_previous"] = s[k.ALAST : k.ALAST + 3].copy()
+        st["covariance"] = s[k.COV : k.COV + 36].reshape(6, 6)
+        st["drift_filter"] = s[k.DRIFT : k.DRIFT + 2 * k.ND].reshape(2, k.ND)
+        st["block_seconds"] = float(s[k.BLOCK])
+        st["acc_start"] = s[k.START : k.START + 5].copy()
+        st["scale"] = s[k.SCALE : k.SCALE + 3].copy()
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
+
+
+def _drift_filter(q, bias) -> np.ndarray:
+    """The drift loop's low-pass in steady state at attitude q and bias: rates 0, outputs R's rows 0-1 and R b."""
+    from ..matrix import as_matrix
+
+    r = as_matrix(q)[:2]
+    return np.array([np.zeros(14), np.concatenate([r.ravel(), np.zeros(6), r @ bias])])
 
 
 def tilt(
@@ -504,7 +642,7 @@ def tilt(
     gyr : array_like, shape (N, 3)
         Angular rate, rad/s.
     acc : array_like, shape (N, 3), optional
-        Specific force, m/s²; or ``pitch_roll``.
+        Specific force, m/s² (NaN rows: no sample); or ``pitch_roll``.
     dt, t : optional
         Seconds per sample, or sample times.
     params : TiltParams, optional

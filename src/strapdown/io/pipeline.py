@@ -324,7 +324,7 @@ def integrate_file(
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
                 try:
                     for t, q in integrate_stream(turned, **opts):
-                        run.write(seg, attitude_columns(t - run.t_first, q, out))
+                        run.write(seg, attitude_columns(t - run.t_first, q, out, check=False))
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
@@ -553,7 +553,7 @@ def estimate_file(
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
                 q = e.q if declination is None else to_true_north(e.q, declination, frame=axes.frame)
-                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit))
+                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit, check=False))
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
         report.notes.extend(run.notes)
@@ -645,7 +645,7 @@ class _Segments:
         if self.on_gap == "restart":
             columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
         w = self._writer(seg)
-        w.write(columns)
+        w.write(columns, copy=False)  # attitude_columns made new arrays for every chunk: no copy needed
         self.rows += len(columns["t"])
 
 

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..integrate import AttitudeIntegrator, SingularityError
+from ._ahead import ReadAhead
 from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source, require_rows
@@ -129,10 +130,9 @@ def _metadata(command: str, **items) -> dict:
     return meta
 
 
-def _chunks_with_progress(imu: ImuFile, chunk_rows: int, progress: Progress | None, start=0, stop=None):
-    total = imu.rows if stop is None else stop - start
+def _chunks_with_progress(chunks: Iterator, total: int | None, progress: Progress | None):
     done = 0
-    for chunk in imu.chunks(chunk_rows, start, stop):
+    for chunk in chunks:
         yield chunk
         done += len(chunk)
         if progress is not None:
@@ -317,8 +317,9 @@ def integrate_file(
         axes, frames = integrate_axes(imu, frame, body, out_body, rate_frame, out)
         meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **frames}
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
-        with run:
-            pieces = run.pieces(_chunks_with_progress(imu, chunk_rows, progress))
+        # the next chunks are read and checked by a thread of their own while this one is integrated
+        with run, ReadAhead(imu.chunks(chunk_rows)) as chunks:
+            pieces = run.pieces(_chunks_with_progress(chunks, imu.rows, progress))
             for seg, group in itertools.groupby(pieces, key=lambda piece: piece[0]):
                 turned = (_turned(chunk, axes) for _, chunk in group)
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
@@ -518,8 +519,8 @@ def estimate_file(
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
         est = None
         warned = False
-        with run:
-            for seg, chunk in run.pieces(_chunks_with_progress(imu, chunk_rows, progress)):
+        with run, ReadAhead(imu.chunks(chunk_rows)) as chunks:
+            for seg, chunk in run.pieces(_chunks_with_progress(chunks, imu.rows, progress)):
                 if seg != run.segment_of_estimator:
                     # a new segment starts from its own first sample; q0 is the first segment's only
                     est = cls(p, q0=q0 if est is None else None, frame=axes.frame)

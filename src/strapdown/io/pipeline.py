@@ -607,11 +607,15 @@ class _Segments:
 
     def t(self, chunk) -> np.ndarray:
         """Seconds from the first sample of the file."""
+        self._start(chunk)
+        return chunk.t - self.t_first
+
+    def _start(self, chunk) -> None:
+        """The time origin, from the first chunk."""
         if self.t_first is None:
             self.t_first = float(chunk.t[0]) if len(chunk) else 0.0
             self.meta.update(time_metadata(self.imu, self.t_first))
             self.meta["time_first_input_s"] = repr(self.t_first)
-        return chunk.t - self.t_first
 
     def pieces(self, chunks):
         """(segment, chunk) in order, the chunks cut at the gaps."""
@@ -619,8 +623,8 @@ class _Segments:
         for chunk in chunks:
             if not len(chunk):
                 continue
-            t = self.t(chunk)
-            cuts = [] if self.splitter is None else list(self.splitter(t))
+            self._start(chunk)
+            cuts = [] if self.splitter is None else list(self.splitter(self.t(chunk)))
             start = 0
             for i in [*cuts, len(chunk)]:
                 if i > start:

@@ -14,7 +14,8 @@
    The CLI's time includes starting Python and loading numba's cached kernels (about a second), the floor's
    does not.
 2c. The same with ``--float32`` (quaternion and angles as float32, time float64) against its own floor: the
-   write of a table of those types.
+   write of a table of those types.  The CLI runs come before the floors: a child's peak RSS from ``wait4``
+   includes the parent's own peak when the child starts, and the floor's read grows this process.
 3. The reference, in the same run: ``strapdown.integrate(gyro, t=t)`` on the same samples held in memory (the
    arrays are loaded first and not timed; best of two calls), so the ratio says what streaming from and to
    files costs against the library alone.  ``--reference-n`` integrates only the first N samples in memory
@@ -203,20 +204,22 @@ def main() -> None:
         results.update(stream_seconds=seconds, stream_peak_rss=rss, out_bytes=out.stat().st_size)
         results["stream_samples_per_s"] = n / seconds
         results["_last"] = last_attitude(out)
+        print("strapdown integrate --float32 ...", flush=True)
+        out32 = work / "attitude32.parquet"
+        seconds32, rss32 = best_of_two(["integrate", str(log), "-o", str(out32), "--float32", "-q"])
+        results.update(stream32_seconds=seconds32, stream32_peak_rss=rss32, out32_bytes=out32.stat().st_size)
 
+        # The floors only now: a child's ru_maxrss includes this process's high-water RSS when it starts (Linux
+        # keeps the pre-exec figure), and reading the log grows this process to gigabytes (pyarrow's pool)
         print("pyarrow floor: read the log, write a table like the output (best of two) ...", flush=True)
         runs = [floor(log, out, work / "floor.parquet", 1 << 18) for _ in range(2)]
         read, write = min(r[0] for r in runs), min(r[1] for r in runs)
         results.update(floor_read_seconds=read, floor_write_seconds=write, floor_seconds=read + write)
         results["stream_over_floor"] = seconds / (read + write)
-        out.unlink()  # room on the disk for the float32 output
-
-        print("strapdown integrate --float32, and its floor ...", flush=True)
-        out32 = work / "attitude32.parquet"
-        seconds32, rss32 = best_of_two(["integrate", str(log), "-o", str(out32), "--float32", "-q"])
+        out.unlink()
+        print("pyarrow floor of the float32 output ...", flush=True)
         runs = [floor(log, out32, work / "floor.parquet", 1 << 18) for _ in range(2)]
         read32, write32 = min(r[0] for r in runs), min(r[1] for r in runs)
-        results.update(stream32_seconds=seconds32, stream32_peak_rss=rss32, out32_bytes=out32.stat().st_size)
         results.update(floor32_read_seconds=read32, floor32_write_seconds=write32, floor32_seconds=read32 + write32)
         results["stream32_over_floor32"] = seconds32 / (read32 + write32)
         out32.unlink()

@@ -211,18 +211,14 @@ def main() -> None:
 
         # The floors only now: a child's ru_maxrss includes this process's high-water RSS when it starts (Linux
         # keeps the pre-exec figure), and reading the log grows this process to gigabytes (pyarrow's pool)
-        print("pyarrow floor: read the log, write a table like the output (best of two) ...", flush=True)
-        runs = [floor(log, out, work / "floor.parquet", 1 << 18) for _ in range(2)]
-        read, write = min(r[0] for r in runs), min(r[1] for r in runs)
-        results.update(floor_read_seconds=read, floor_write_seconds=write, floor_seconds=read + write)
-        results["stream_over_floor"] = seconds / (read + write)
-        out.unlink()
-        print("pyarrow floor of the float32 output ...", flush=True)
-        runs = [floor(log, out32, work / "floor.parquet", 1 << 18) for _ in range(2)]
-        read32, write32 = min(r[0] for r in runs), min(r[1] for r in runs)
-        results.update(floor32_read_seconds=read32, floor32_write_seconds=write32, floor32_seconds=read32 + write32)
-        results["stream32_over_floor32"] = seconds32 / (read32 + write32)
-        out32.unlink()
+        for key, output, ours in (("", out, seconds), ("32", out32, seconds32)):
+            print(f"pyarrow floor: read the log, write a table like {output.name} (best of two) ...", flush=True)
+            runs = [floor(log, output, work / "floor.parquet", 1 << 18) for _ in range(2)]
+            read, write = min(r[0] for r in runs), min(r[1] for r in runs)
+            results.update({f"floor{key}_read_seconds": read, f"floor{key}_write_seconds": write})
+            results[f"floor{key}_seconds"] = read + write
+            results[f"stream{key}_over_floor{key}"] = ours / (read + write)
+            output.unlink()
 
         print(f"in-memory reference: strapdown.integrate on {n_ref:.3g} samples ...", flush=True)
         import strapdown as sd

@@ -8,14 +8,13 @@
    progress bar off) and reads its wall time and its peak resident memory from ``wait4`` (the same figure as
    ``/usr/bin/time -v``); the better of two runs.  The claim: peak RSS below 1 GiB whatever the
    file size.
-2b. The floor, in the same run: what pyarrow alone takes to read the log in the same batches (to numpy) plus
-   to write a Parquet table of the output's rows, column types, row groups and compression (random values,
-   as incompressible as attitudes); best of two.  The goal: streaming time <= 1.5 x the floor (issue 15).
-   The CLI's time includes starting Python and loading numba's cached kernels (about a second), the floor's
-   does not.
+2b. The floor, in the same run, right after each CLI run (in a process of its own): what pyarrow alone takes to
+   read the log in the same batches (to numpy) plus to write a Parquet table of the output's rows, column
+   types, row groups and compression (random values, as incompressible as attitudes); best of two.  The goal:
+   streaming time <= 1.5 x the floor (issue 15).  The CLI's time includes starting Python and loading numba's
+   cached kernels (about a second), the floor's does not.
 2c. The same with ``--float32`` (quaternion and angles as float32, time float64) against its own floor: the
-   write of a table of those types.  The CLI runs come before the floors: a child's peak RSS from ``wait4``
-   includes the parent's own peak when the child starts, and the floor's read grows this process.
+   write of a table of those types.
 3. The reference, in the same run: ``strapdown.integrate(gyro, t=t)`` on the same samples held in memory (the
    arrays are loaded first and not timed; best of two calls), so the ratio says what streaming from and to
    files costs against the library alone.  ``--reference-n`` integrates only the first N samples in memory
@@ -82,16 +81,25 @@ def run_cli(args: list[str]) -> tuple[float, int, int]:
     return seconds, usage.ru_maxrss * 1024, proc.returncode
 
 
-def best_of_two(args: list[str]) -> tuple[float, int]:
-    """The better wall time of two CLI runs (as for the floor: a busy machine's noise is larger than the
-    effects measured) and the larger peak RSS."""
-    best, peak = np.inf, 0
+def rounds(args: list[str], log: Path, out: Path, scratch: Path) -> tuple[float, int, float, float]:
+    """Two rounds of a CLI run and the floor of its output right after it, under the same conditions.
+
+    Returns the better CLI time, the larger peak RSS, and the better floor read and write (a busy machine's
+    noise is larger than the effects measured).  Each floor runs in a process of its own: a child's ru_maxrss
+    from ``wait4`` includes the parent's peak RSS when it starts (Linux keeps the pre-exec figure), and reading
+    the log grows a process by gigabytes (pyarrow's memory pool), which the next CLI run would report as its own.
+    """
+    best, peak, reads, writes = np.inf, 0, [], []
     for i in range(2):
         seconds, rss, code = run_cli(args if i == 0 or "-q" in args else [*args, "-q"])
         if code != 0:
             raise SystemExit(f"strapdown {' '.join(args)} failed with exit code {code}")
         best, peak = min(best, seconds), max(peak, rss)
-    return best, peak
+        child = [sys.executable, __file__, "--floor", str(log), str(out), str(scratch)]
+        read, write = json.loads(subprocess.run(child, capture_output=True, text=True, check=True).stdout)
+        reads.append(read)
+        writes.append(write)
+    return best, peak, min(reads), min(writes)
 
 
 def load(path: Path, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -174,7 +182,15 @@ def main() -> None:
     ap.add_argument("--reference-n", type=float, default=None, help="samples integrated in memory (default: n)")
     ap.add_argument("--keep", action="store_true", help="keep the files")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--floor", nargs=3, metavar=("LOG", "OUT", "SCRATCH"), help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.floor:  # one floor measure, in a process of its own (see rounds)
+        import pyarrow.parquet as pq
+
+        for col in next(pq.ParquetFile(args.floor[0]).iter_batches(batch_size=1)).columns:
+            col.to_numpy()  # pyarrow's first use (to_numpy imports pandas), not timed
+        print(json.dumps(floor(*map(Path, args.floor), 1 << 18)))
+        return
     n = int(args.n)
     n_ref = n if args.reference_n is None else int(args.reference_n)
     work = Path(tempfile.mkdtemp(prefix="strapdown-bench-io-", dir=args.dir))
@@ -200,25 +216,23 @@ def main() -> None:
         tiny = min(run_cli(["integrate", str(work / "warm.parquet"), "-o", str(work / "tiny.parquet"), "-q"])[0]
                    for _ in range(2))  # fmt: skip
         results["cli_fixed_seconds"] = tiny
-        seconds, rss = best_of_two(["integrate", str(log), "-o", str(out)])
+        print("strapdown integrate, then the pyarrow floor: read the log, write a table like the output ...")
+        seconds, rss, read, write = rounds(["integrate", str(log), "-o", str(out)], log, out, work / "floor.parquet")
         results.update(stream_seconds=seconds, stream_peak_rss=rss, out_bytes=out.stat().st_size)
         results["stream_samples_per_s"] = n / seconds
         results["_last"] = last_attitude(out)
-        print("strapdown integrate --float32 ...", flush=True)
+        results.update(floor_read_seconds=read, floor_write_seconds=write, floor_seconds=read + write)
+        results["stream_over_floor"] = seconds / (read + write)
+        out.unlink()
+        print("strapdown integrate --float32, then its floor ...", flush=True)
         out32 = work / "attitude32.parquet"
-        seconds32, rss32 = best_of_two(["integrate", str(log), "-o", str(out32), "--float32", "-q"])
+        seconds32, rss32, read32, write32 = rounds(
+            ["integrate", str(log), "-o", str(out32), "--float32", "-q"], log, out32, work / "floor.parquet"
+        )
         results.update(stream32_seconds=seconds32, stream32_peak_rss=rss32, out32_bytes=out32.stat().st_size)
-
-        # The floors only now: a child's ru_maxrss includes this process's high-water RSS when it starts (Linux
-        # keeps the pre-exec figure), and reading the log grows this process to gigabytes (pyarrow's pool)
-        for key, output, ours in (("", out, seconds), ("32", out32, seconds32)):
-            print(f"pyarrow floor: read the log, write a table like {output.name} (best of two) ...", flush=True)
-            runs = [floor(log, output, work / "floor.parquet", 1 << 18) for _ in range(2)]
-            read, write = min(r[0] for r in runs), min(r[1] for r in runs)
-            results.update({f"floor{key}_read_seconds": read, f"floor{key}_write_seconds": write})
-            results[f"floor{key}_seconds"] = read + write
-            results[f"stream{key}_over_floor{key}"] = ours / (read + write)
-            output.unlink()
+        results.update(floor32_read_seconds=read32, floor32_write_seconds=write32, floor32_seconds=read32 + write32)
+        results["stream32_over_floor32"] = seconds32 / (read32 + write32)
+        out32.unlink()
 
         print(f"in-memory reference: strapdown.integrate on {n_ref:.3g} samples ...", flush=True)
         import strapdown as sd

@@ -96,6 +96,12 @@ def output_options(f, *, bias: bool = False):
         click.option("--no-bias", is_flag=True, help="Leave out the estimated gyro bias.") if bias else None,
         click.option("--no-flags", is_flag=True, help="Leave out the estimator's flags.") if bias else None,
         click.option(
+            "--float32",
+            is_flag=True,
+            help="Quaternions, angles and bias as float32: half the bytes (the float64 results rounded; t stays "
+            "float64).",
+        ),
+        click.option(
             "--chunk-rows", default=CHUNK_ROWS, show_default=True, help="Rows read and written at a time (memory)."
         ),
         click.option("-q", "--quiet", is_flag=True, help="No progress bar, no summary."),
@@ -211,6 +217,7 @@ def output_spec(p: dict):
         bias=not p.get("no_bias"),
         flags=not p.get("no_flags"),
         format=p.get("out_format"),
+        float32=bool(p.get("float32")),
     )
 
 

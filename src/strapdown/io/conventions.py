@@ -188,6 +188,8 @@ def output_metadata(out, *, bias: bool = False, flags: bool = False) -> dict:
     if flags and out.flags:
         bits = ", ".join(f"{name}={bit}" for name, bit in flag_bits().items())
         meta["flags"] = f"bit mask ({bits}); the same as boolean columns"
+    if out.float32:
+        meta["precision"] = "float32 (the float64 results rounded: quaternion, angles, bias); t float64"
     return meta
 
 

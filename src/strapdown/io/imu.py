@@ -449,7 +449,7 @@ class ImuFile:
             if self._timestamps:
                 t = cols[self.time.fields[0]]  # already seconds
             elif self.time is not None:
-                t = (cols[self.time.fields[0]] - self._t0) * scale("time", self.units["time"])
+                t = _in_si(cols[self.time.fields[0]] - self._t0, scale("time", self.units["time"]))
             else:
                 t = (row + np.arange(n)) / self.rate
             check(t, row)
@@ -460,7 +460,9 @@ class ImuFile:
                     self._check_magnitude(kind, raw, row, check.period)  # before any product can overflow
                     if self.spec.unit_check:
                         self._check_units(kind, raw, row, check.period)
-                setattr(out, kind, raw * scale(kind, self.units[kind]))
+                factor = scale(kind, self.units[kind])
+                # one field may be the reader's own (read-only) buffer: the product is then the copy to keep
+                setattr(out, kind, _in_si(raw, factor) if len(pick.fields) > 1 else raw * factor)
             for name, pick in self.extra.items():
                 values = _assemble(cols, pick)
                 if name == "known_acc" and "acc" in self.units:
@@ -469,6 +471,10 @@ class ImuFile:
             yield out
 
     def _check_finite(self, cols: dict, row: int, n: int) -> None:
+        # the usual case, every value finite, in one pass without temporaries: a NaN or inf anywhere makes a
+        # column's sum NaN or inf (a sum of finite values that overflows only sends it the long way below)
+        if all(np.isfinite(np.sum(v)) for v in cols.values()):
+            return
         bad = np.zeros(n, dtype=bool)
         culprit = {}
         # a slower sensor's rows are all NaN where it has no sample: those are not bad, partly NaN rows are
@@ -531,6 +537,11 @@ class ImuFile:
 
 
 _SI = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}
+
+
+def _in_si(values: np.ndarray, factor: float) -> np.ndarray:
+    """``values * factor``; the values themselves (a new array already) when already in SI: x * 1.0 is x."""
+    return values if factor == 1.0 else values * factor
 
 
 def _assemble(cols: dict, pick: Pick) -> np.ndarray:

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..integrate import AttitudeIntegrator, SingularityError
+from ._ahead import ReadAhead
 from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source, require_rows
@@ -129,10 +130,9 @@ def _metadata(command: str, **items) -> dict:
     return meta
 
 
-def _chunks_with_progress(imu: ImuFile, chunk_rows: int, progress: Progress | None, start=0, stop=None):
-    total = imu.rows if stop is None else stop - start
+def _chunks_with_progress(chunks: Iterator, total: int | None, progress: Progress | None):
     done = 0
-    for chunk in imu.chunks(chunk_rows, start, stop):
+    for chunk in chunks:
         yield chunk
         done += len(chunk)
         if progress is not None:
@@ -317,14 +317,15 @@ def integrate_file(
         axes, frames = integrate_axes(imu, frame, body, out_body, rate_frame, out)
         meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **frames}
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
-        with run:
-            pieces = run.pieces(_chunks_with_progress(imu, chunk_rows, progress))
+        # the next chunks are read and checked by a thread of their own while this one is integrated
+        with run, ReadAhead(imu.chunks(chunk_rows)) as chunks:
+            pieces = run.pieces(_chunks_with_progress(chunks, imu.rows, progress))
             for seg, group in itertools.groupby(pieces, key=lambda piece: piece[0]):
                 turned = (_turned(chunk, axes) for _, chunk in group)
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
                 try:
                     for t, q in integrate_stream(turned, **opts):
-                        run.write(seg, attitude_columns(t - run.t_first, q, out))
+                        run.write(seg, attitude_columns(t - run.t_first, q, out, check=False))
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
@@ -518,8 +519,8 @@ def estimate_file(
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
         est = None
         warned = False
-        with run:
-            for seg, chunk in run.pieces(_chunks_with_progress(imu, chunk_rows, progress)):
+        with run, ReadAhead(imu.chunks(chunk_rows)) as chunks:
+            for seg, chunk in run.pieces(_chunks_with_progress(chunks, imu.rows, progress)):
                 if seg != run.segment_of_estimator:
                     # a new segment starts from its own first sample; q0 is the first segment's only
                     est = cls(p, q0=q0 if est is None else None, frame=axes.frame)
@@ -553,7 +554,7 @@ def estimate_file(
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
                 q = e.q if declination is None else to_true_north(e.q, declination, frame=axes.frame)
-                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit))
+                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit, check=False))
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
         report.notes.extend(run.notes)
@@ -606,11 +607,15 @@ class _Segments:
 
     def t(self, chunk) -> np.ndarray:
         """Seconds from the first sample of the file."""
+        self._start(chunk)
+        return chunk.t - self.t_first
+
+    def _start(self, chunk) -> None:
+        """The time origin, from the first chunk."""
         if self.t_first is None:
             self.t_first = float(chunk.t[0]) if len(chunk) else 0.0
             self.meta.update(time_metadata(self.imu, self.t_first))
             self.meta["time_first_input_s"] = repr(self.t_first)
-        return chunk.t - self.t_first
 
     def pieces(self, chunks):
         """(segment, chunk) in order, the chunks cut at the gaps."""
@@ -618,8 +623,8 @@ class _Segments:
         for chunk in chunks:
             if not len(chunk):
                 continue
-            t = self.t(chunk)
-            cuts = [] if self.splitter is None else list(self.splitter(t))
+            self._start(chunk)
+            cuts = [] if self.splitter is None else list(self.splitter(self.t(chunk)))
             start = 0
             for i in [*cuts, len(chunk)]:
                 if i > start:
@@ -645,7 +650,7 @@ class _Segments:
         if self.on_gap == "restart":
             columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
         w = self._writer(seg)
-        w.write(columns)
+        w.write(columns, copy=False)  # attitude_columns made new arrays for every chunk: no copy needed
         self.rows += len(columns["t"])
 
 

@@ -130,7 +130,7 @@ def column_names(rep: str, angles: Angles = Angles()) -> list[str]:
     return [f"{a}{unit}" for a in ("heading", "pitch", "roll")]  # compressed: Liu et al.'s (ψ, θ, γ)
 
 
-def to_values(rep: str, q: np.ndarray, angles: Angles = Angles()) -> np.ndarray:
+def to_values(rep: str, q: np.ndarray, angles: Angles = Angles(), *, check: bool = True) -> np.ndarray:
     """A representation of attitudes as an (N, width) real array.
 
     Parameters
@@ -141,6 +141,9 @@ def to_values(rep: str, q: np.ndarray, angles: Angles = Angles()) -> np.ndarray:
         Quaternions.
     angles : Angles
         Sequence, unit and ranges.
+    check : bool
+        Validate ``q`` (finite, non-zero; default).  False for quaternions the library made itself, such as an
+        integrator's unit quaternions: the validation's per-row reduction costs about half the conversion.
 
     Returns
     -------
@@ -159,21 +162,21 @@ def to_values(rep: str, q: np.ndarray, angles: Angles = Angles()) -> np.ndarray:
     if rep == "quat":
         return q
     if rep == "euler":
-        return as_euler(q, angles.seq, deg, yaw_range=angles.range)
+        return as_euler(q, angles.seq, deg, yaw_range=angles.range, check=check)
     if rep == "matrix":
-        return as_matrix(q).reshape(-1, 9)
+        return as_matrix(q, check=check).reshape(-1, 9)
     if rep == "rotvec":
-        return as_rotvec(q, deg)
+        return as_rotvec(q, deg, check=check)
     if rep == "axis_angle":
-        axis, angle = as_axis_angle(q, deg)
+        axis, angle = as_axis_angle(q, deg, check=check)
         return np.column_stack([axis, angle])
     if rep == "gibbs":
         with np.errstate(divide="ignore"):
-            return as_gibbs(q, angles.gibbs)
+            return as_gibbs(q, angles.gibbs, check=check)
     if rep == "cayley_klein":
-        u = as_cayley_klein(q).reshape(-1, 4)
+        u = as_cayley_klein(q, check=check).reshape(-1, 4)
         return np.stack([u.real, u.imag], axis=-1).reshape(-1, 8)
-    return as_compressed(q, deg)
+    return as_compressed(q, deg, check=check)
 
 
 def from_values(rep: str, values, angles: Angles = Angles()) -> np.ndarray:
@@ -238,6 +241,10 @@ class OutputSpec:
         Write the estimator's gyro bias and flags when it has them.
     format : str, optional
         ``"csv"``, ``"parquet"``, ``"hdf5"`` or ``"mat"``; by default from the output's suffix.
+    float32 : bool
+        Write quaternions, angles and bias as float32 (half the bytes; each value is the float64 result rounded
+        to the nearest float32, a relative error of at most 6e-8).  The time stays float64: float32 would round
+        a time of 10^5 s to 8 ms.
     """
 
     euler: bool = True
@@ -245,6 +252,7 @@ class OutputSpec:
     bias: bool = True
     flags: bool = True
     format: str | None = None
+    float32: bool = False
 
 
 #: The named boolean columns written beside ``flags``: column name -> name of its bit in :mod:`strapdown.fusion`.
@@ -282,7 +290,9 @@ def flag_bits() -> dict[str, int]:
     return {name: int(getattr(fusion, bit, _BIAS_AT_LIMIT)) for name, bit in FLAG_COLUMNS.items()}
 
 
-def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=None, bias_at_limit=None) -> dict:
+def attitude_columns(
+    t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=None, bias_at_limit=None, *, check: bool = True
+) -> dict:
     """The output table of attitudes: ``t``, ``qw..qz``, Euler angles, ``bias_*``, ``flags`` and one column per flag.
 
     Parameters
@@ -301,11 +311,14 @@ def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=Non
     bias_at_limit : numpy.ndarray of bool, shape (N,), optional
         Rows whose bias sits at the estimator's ``bias_limit`` on some axis, when the estimator does not flag it
         itself: its bit is set in ``flags``.
+    check : bool
+        Validate ``q`` before the Euler angles (default); False for the library's own unit quaternions.
 
     Returns
     -------
     dict of str to numpy.ndarray
-        Columns in order.
+        Columns in order: each a new contiguous array that shares memory with no argument (a writer may keep
+        it without a copy).
 
     Examples
     --------
@@ -320,21 +333,31 @@ def attitude_columns(t, q, spec: OutputSpec = OutputSpec(), bias=None, flags=Non
     >>> cols["rest"], cols["acc_rejected"], cols["mag_rejected"]
     (array([False,  True]), array([False, False]), array([False,  True]))
     """
-    cols = {"t": np.asarray(t, dtype=np.float64)}
-    cols.update(zip(column_names("quat"), np.asarray(q, dtype=np.float64).T, strict=True))
-    if spec.euler and len(q):
-        cols.update(zip(column_names("euler", spec.angles), to_values("euler", q, spec.angles).T, strict=True))
-    elif spec.euler:
-        cols.update((name, np.zeros(0)) for name in column_names("euler", spec.angles))
+    dtype = np.float32 if spec.float32 else np.float64
+    q = np.asarray(q, dtype=np.float64)
+    cols = {"t": np.array(t, dtype=np.float64)}
+    cols.update(zip(column_names("quat"), _columns(q, dtype), strict=True))
+    if spec.euler:
+        euler = to_values("euler", q, spec.angles, check=check) if len(q) else np.zeros((0, 3))
+        cols.update(zip(column_names("euler", spec.angles), _columns(euler, dtype), strict=True))
     if spec.bias and bias is not None:
         unit = "deg_s" if spec.angles.degrees else "rad_s"
-        b = np.degrees(bias) if spec.angles.degrees else np.asarray(bias)
-        cols.update({f"bias_{a}_{unit}": b[:, i] for i, a in enumerate("xyz")})
+        b = np.degrees(bias) if spec.angles.degrees else np.asarray(bias, dtype=np.float64)
+        cols.update(zip([f"bias_{a}_{unit}" for a in "xyz"], _columns(b, dtype), strict=True))
     if spec.flags and flags is not None:
         bits = flag_bits()
-        f = np.asarray(flags, dtype=np.uint8)
+        f = np.array(flags, dtype=np.uint8)
         if bias_at_limit is not None:
             f = f | np.where(bias_at_limit, bits["bias_at_limit"], 0).astype(np.uint8)
         cols["flags"] = f
         cols.update({name: (f & bit) != 0 for name, bit in bits.items()})
     return cols
+
+
+def _columns(values: np.ndarray, dtype) -> np.ndarray:
+    """The columns of an (N, k) array as the rows of a new C-ordered (k, N) array of ``dtype``.
+
+    One transposing pass (and cast) for all k columns: the writer needs contiguous columns, and copying k
+    strided ones apart costs twice as much.
+    """
+    return np.array(values.T, dtype=dtype, order="C")

@@ -42,13 +42,17 @@ class TableWriter:
         # not make a one-row group) and, with `background`, encoded and written by a thread of their own while
         # the caller computes the next chunk (pyarrow releases the GIL).  write() keeps a contiguous copy of
         # each column (which the Arrow conversion needs anyway for strided ones), so the caller may reuse its
-        # arrays at once.
+        # arrays at once; unless it hands them over (copy=False).
         self._group: list = []
         self._group_rows = 0
         self._behind = _Behind() if background and format == "parquet" else None
 
-    def write(self, columns: Mapping[str, np.ndarray]) -> None:
-        """Append rows: every chunk has the same column names in the same order, each array of one length."""
+    def write(self, columns: Mapping[str, np.ndarray], *, copy: bool = True) -> None:
+        """Append rows: every chunk has the same column names in the same order, each array of one length.
+
+        ``copy=False`` hands the arrays over: the caller promises never to change them, and a background
+        Parquet write then keeps contiguous ones as they are instead of copying each column first.
+        """
         names = list(columns)
         if self.names is None:
             self.names = names
@@ -60,7 +64,10 @@ class TableWriter:
             raise ValueError(f"columns of one chunk differ in length: {sorted(lengths)}")
         n = lengths.pop() if lengths else 0
         if n:
-            getattr(self, f"_write_{self.format}")(columns)
+            if self.format == "parquet":
+                self._write_parquet(columns, copy)
+            else:
+                getattr(self, f"_write_{self.format}")(columns)
         self.rows += n
 
     def _open(self, columns) -> None:
@@ -98,9 +105,9 @@ class TableWriter:
         columns = {n: v.view(np.uint8) if v.dtype == bool else v for n, v in columns.items()}
         pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
 
-    def _write_parquet(self, columns) -> None:
+    def _write_parquet(self, columns, copy: bool = True) -> None:
         if self._behind is not None:
-            columns = {n: np.array(v, order="C", copy=True) for n, v in columns.items()}
+            columns = {n: np.array(v, order="C", copy=True if copy else None) for n, v in columns.items()}
         self._group.append(columns)
         self._group_rows += len(next(iter(columns.values())))
         if self._group_rows >= ROW_GROUP_ROWS:

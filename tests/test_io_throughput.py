@@ -1,0 +1,144 @@
+"""What the file commands do for speed must not change what they write: float32 outputs (``--float32``) are the
+float64 results rounded, and the read-ahead thread keeps the order of chunks and errors and stops with its block."""
+
+import threading
+
+import numpy as np
+import pytest
+from tests.conftest import strapdown_cli
+
+from strapdown.io import OutputSpec, estimate_file, integrate_file, read_metadata, read_table, write_table
+from strapdown.io._ahead import ReadAhead
+
+
+def reader_threads():
+    return [t for t in threading.enumerate() if t.name == "strapdown-reader"]
+
+
+@pytest.fixture(scope="module")
+def log(tmp_path_factory):
+    rng = np.random.default_rng(11)
+    n = 1000
+    t = np.arange(n) * 0.01 + rng.uniform(-1e-4, 1e-4, n)
+    gyro = np.cumsum(rng.normal(0, 0.05, (n, 3)), axis=0)  # rad/s, a wandering motion through all angles
+    columns = {"t": t, "gx": gyro[:, 0], "gy": gyro[:, 1], "gz": gyro[:, 2]}
+    return write_table(tmp_path_factory.mktemp("log") / "log.parquet", columns)
+
+
+@pytest.fixture(scope="module")
+def still(tmp_path_factory):
+    """A sensor at rest: gyro and accelerometer noise about zero and gravity."""
+    rng = np.random.default_rng(12)
+    n = 1000
+    gyro = rng.normal(0, 0.01, (n, 3)) + np.array([0.002, -0.001, 0.003])
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1)) + rng.normal(0, 0.05, (n, 3))
+    columns = {"t": np.arange(n) * 0.01, "gx": gyro[:, 0], "gy": gyro[:, 1], "gz": gyro[:, 2]}
+    columns |= {"ax": acc[:, 0], "ay": acc[:, 1], "az": acc[:, 2]}
+    return write_table(tmp_path_factory.mktemp("still") / "still.parquet", columns)
+
+
+def test_the_read_ahead_yields_everything_in_order():
+    with ReadAhead(iter(range(1000)), depth=3) as items:
+        assert list(items) == list(range(1000))
+    assert not reader_threads()
+
+
+def test_an_error_of_the_producer_comes_after_the_items_before_it():
+    def produce():
+        yield from range(3)
+        raise ValueError("row 3 is bad")
+
+    got = []
+    with pytest.raises(ValueError, match="row 3 is bad"), ReadAhead(produce()) as items:
+        for item in items:
+            got.append(item)
+    assert got == [0, 1, 2]
+    assert not reader_threads()
+
+
+def test_an_error_of_the_consumer_stops_the_producer_and_runs_its_clean_up():
+    made, closed = [], []
+
+    def produce():
+        try:
+            for i in range(10**9):
+                made.append(i)
+                yield i
+        finally:
+            closed.append(True)
+
+    with pytest.raises(KeyboardInterrupt), ReadAhead(produce(), depth=2) as items:
+        for item in items:
+            if item == 5:
+                raise KeyboardInterrupt  # Ctrl-C in the consumer
+    assert closed == [True]
+    assert not reader_threads()
+    assert len(made) <= 6 + 2 + 1  # at most the queue's depth and the item in hand beyond what was consumed
+
+
+def test_a_bad_row_late_in_a_file_fails_the_run_with_no_output_and_no_thread_left(tmp_path):
+    n = 6000  # past the 4096 rows that the reader looks at first: the bad row is found by the read-ahead thread
+    table = {"t": np.arange(n) * 0.01, "gx": np.zeros(n), "gy": np.full(n, 0.1), "gz": np.zeros(n)}
+    table["gy"][5000] = np.nan
+    bad = write_table(tmp_path / "bad.parquet", table)
+    with pytest.raises(ValueError, match=r"row 5000.*'gy'"):
+        integrate_file(bad, tmp_path / "out.parquet", chunk_rows=64)
+    assert not (tmp_path / "out.parquet").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.parquet"]  # no temporary either
+    assert not reader_threads()
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "csv", "h5", "mat"])
+def test_float32_integrate_is_the_float64_run_rounded(tmp_path, log, fmt):
+    wide = read_table(integrate_file(log, tmp_path / f"64.{fmt}", chunk_rows=97).output)
+    path = integrate_file(log, tmp_path / f"32.{fmt}", chunk_rows=97, out=OutputSpec(float32=True)).output
+    narrow = read_table(path)
+    assert list(narrow) == list(wide)
+    np.testing.assert_array_equal(narrow["t"], wide["t"])  # time stays float64
+    for name in ("qw", "qx", "qy", "qz", "yaw_deg", "pitch_deg", "roll_deg"):
+        # each value is the nearest float32 to the float64 result (round to nearest, numpy's cast); CSV text is
+        # the shortest decimal that reads back as that float32, which float64 parsing does not return exactly
+        np.testing.assert_array_equal(narrow[name].astype(np.float32), wide[name].astype(np.float32))
+        if fmt != "csv":
+            np.testing.assert_array_equal(narrow[name], narrow[name].astype(np.float32))
+        assert not np.array_equal(narrow[name], wide[name])  # and it really was rounded
+    assert "float32" in read_metadata(path)["precision"]
+    assert "precision" not in read_metadata(tmp_path / f"64.{fmt}")
+
+
+def test_float32_columns_are_stored_as_float32(tmp_path, log):
+    import pyarrow.parquet as pq
+
+    path = integrate_file(log, tmp_path / "32.parquet", out=OutputSpec(float32=True)).output
+    types = {f.name: str(f.type) for f in pq.read_schema(path)}
+    assert types == {"t": "double", **dict.fromkeys(["qw", "qx", "qy", "qz"], "float")} | dict.fromkeys(
+        ["yaw_deg", "pitch_deg", "roll_deg"], "float"
+    )
+    wide = integrate_file(log, tmp_path / "64.parquet").output
+    # 7 of the 8 columns halved: the file shrinks to about (1 + 7/2) / 8 of the float64 one
+    assert path.stat().st_size < 0.7 * wide.stat().st_size
+
+
+def test_float32_estimate_rounds_quaternions_angles_and_bias_but_not_flags(tmp_path, still):
+    wide = read_table(estimate_file(still, tmp_path / "64.parquet", estimator="mahony", chunk_rows=128).output)
+    out = OutputSpec(float32=True)
+    path = estimate_file(still, tmp_path / "32.parquet", estimator="mahony", chunk_rows=128, out=out).output
+    narrow = read_table(path)
+    assert list(narrow) == list(wide)
+    rounded = [n for n in wide if n.startswith(("q", "bias_", "yaw", "pitch", "roll"))]
+    assert len(rounded) == 10
+    for name in wide:
+        expected = wide[name].astype(np.float32).astype(np.float64) if name in rounded else wide[name]
+        np.testing.assert_array_equal(narrow[name], expected, err_msg=name)
+
+
+def test_the_cli_float32_flag(tmp_path, log, still):
+    import pyarrow.parquet as pq
+
+    res = strapdown_cli("integrate", log, "-o", tmp_path / "a.parquet", "--float32", "-q")
+    assert res.returncode == 0, res.stderr
+    assert str(pq.read_schema(tmp_path / "a.parquet").field("qw").type) == "float"
+    res = strapdown_cli("estimate", still, "-o", tmp_path / "e.csv", "--float32", "-e", "mahony", "-q")
+    assert res.returncode == 0, res.stderr
+    assert "float32" in read_metadata(tmp_path / "e.csv")["precision"]
+    assert "--float32" in strapdown_cli("integrate", "--help").stdout

@@ -61,9 +61,20 @@ def check_last_axis(arr: np.ndarray, name: str, size: int, what: str) -> None:
         raise ValueError(f"{name} must have shape (..., {size}) ({what}), got shape {arr.shape}")
 
 
+def all_finite(arr: np.ndarray) -> bool:
+    """Whether every element is finite, in the usual case by one sum.
+
+    A NaN or an infinity makes the sum non-finite; only a finite sum that overflows goes on to the exact
+    elementwise test.
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = np.add.reduce(arr.reshape(-1)) if arr.size else 0.0
+    return bool(np.isfinite(total)) or bool(np.isfinite(arr).all())
+
+
 def check_finite(arr: np.ndarray, name: str) -> None:
     """Raise if `arr` holds a NaN or an infinity, naming the first offending element."""
-    if not np.isfinite(arr).all():
+    if not all_finite(arr):
         bad = ~np.isfinite(arr)
         first = arr[bad][0]
         kind = "NaN" if np.isnan(first) else "infinite"

@@ -116,7 +116,7 @@ def multiply(p, q, *, check: bool = True) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         multiply_rows(p_rows, q_rows, out)
     out = out.reshape((*shape, 4))
-    if check and not np.isfinite(out).all():
+    if check and not _v.all_finite(out):
         bad = ~np.isfinite(out).all(axis=-1)
         i = _v.first_index(bad)
         pn, qn = np.broadcast_to(norm(p), shape)[bad][0], np.broadcast_to(norm(q), shape)[bad][0]

@@ -19,7 +19,16 @@ import numpy as np
 from ._base import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
 from ._base import FLAG_BIAS_AT_LIMIT, FLAG_REST
 from ._base import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
-from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, tilt_to_z, unit_rotvec
+from ._kernels_numba import (
+    gap_rate,
+    lowpass2,
+    lowpass2_step,
+    right_step,
+    rotate,
+    start_or_lowpass,
+    tilt_to_z,
+    unit_rotvec,
+)
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -248,25 +257,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             f_dt = t_acc
             t_acc = 0.0
             ix, iy, iz = rotate(gw, gx, gy, gz, ax_ - bax, acc[k, 1] - bay, acc[k, 2] - baz)
-            if a_init >= 0.0:
-                # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
-                # in I (VQF starts its filters so).  A low-pass started at the first sample would carry that
-                # sample's linear acceleration for several tau; the mean lets it average out from the start.
-                asx += ix
-                asy += iy
-                asz += iz
-                a_cnt += 1.0
-                mx, my, mz = asx / a_cnt, asy / a_cnt, asz / a_cnt
-                a_init += f_dt
-                if a_init >= tau_acc * (1.0 - 1e-9):  # hand over to the filter, in steady state at the mean
-                    a_init = -1.0
-                    vx = vy = vz = 0.0
-            else:
-                # exact step of the low-pass over the interval since the last sample (lowpass2): no restart is
-                # needed after a gap or a change of rate, and jitter changes nothing but the interval
-                mx, vx = lowpass2_step(mx, vx, ix, p00, p01, p10, p11)
-                my, vy = lowpass2_step(my, vy, iy, p00, p01, p10, p11)
-                mz, vz = lowpass2_step(mz, vz, iz, p00, p01, p10, p11)
+            # the start's plain mean, then the low-pass stepped exactly over the interval (start_or_lowpass)
+            a_init, a_cnt, asx, asy, asz, mx, my, mz, vx, vy, vz = start_or_lowpass(
+                ix, iy, iz, f_dt, tau_acc, a_init, a_cnt, asx, asy, asz, mx, my, mz, vx, vy, vz, p00, p01, p10, p11
+            )
             # the linear acceleration the filter is averaging out (the sample's departure from the filtered
             # vector), whose residual after the low-pass moves the correction as a bias error would
             if a_init < 0.0:  # low-passed at the block update (its cutoff is far below the block rate)

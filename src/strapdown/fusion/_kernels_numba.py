@@ -170,3 +170,31 @@ def lowpass2_step(y, v, u, p00, p01, p10, p11):
     """One step of the low-pass of ``lowpass2`` (its four coefficients) from output y and rate v, input u held."""
     d = y - u
     return u + p00 * d + p01 * v, p10 * d + p11 * v
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def start_or_lowpass(ix, iy, iz, h, tau, a_init, a_cnt, asx, asy, asz, mx, my, mz, vx, vy, vz, p00, p01, p10, p11):
+    """One accelerometer sample in I, h s after the last, into the filter of the estimators (output m, rate v).
+
+    The start: for the first tau seconds (``a_init`` counts them; < 0 once over) the output is the plain mean of
+    the samples (VQF starts its filters so).  A low-pass started at the first sample would carry that sample's
+    linear acceleration for several tau; the mean lets it average out from the start.  Then the hand-over, in
+    steady state at the mean, and the exact step of the low-pass (lowpass2's coefficients p) over each interval:
+    no restart is needed after a gap or a change of rate, and jitter changes nothing but the interval.
+    Returns (a_init, a_cnt, asx, asy, asz, mx, my, mz, vx, vy, vz).
+    """
+    if a_init >= 0.0:
+        asx += ix
+        asy += iy
+        asz += iz
+        a_cnt += 1.0
+        mx, my, mz = asx / a_cnt, asy / a_cnt, asz / a_cnt
+        a_init += h
+        if a_init >= tau * (1.0 - 1e-9):
+            a_init = -1.0
+            vx = vy = vz = 0.0
+    else:
+        mx, vx = lowpass2_step(mx, vx, ix, p00, p01, p10, p11)
+        my, vy = lowpass2_step(my, vy, iy, p00, p01, p10, p11)
+        mz, vz = lowpass2_step(mz, vz, iz, p00, p01, p10, p11)
+    return a_init, a_cnt, asx, asy, asz, mx, my, mz, vx, vy, vz

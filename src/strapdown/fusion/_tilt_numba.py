@@ -13,7 +13,16 @@ import numba as nb
 import numpy as np
 
 from ._base import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
-from ._kernels_numba import gap_rate, lowpass2, lowpass2_step, right_step, rotate, tilt_to_z, unit_rotvec
+from ._kernels_numba import (
+    gap_rate,
+    lowpass2,
+    lowpass2_step,
+    right_step,
+    rotate,
+    start_or_lowpass,
+    tilt_to_z,
+    unit_rotvec,
+)
 
 # state vector layout (one float64 array, so that get/set and chunking are trivial)
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I
@@ -173,23 +182,10 @@ def run(
                 p00, p01, p10, p11 = lowpass2(t_acc, tau_acc)
                 last_t_acc = t_acc
             ix, iy, iz = rotate(gw, gx, gy, gz, ax, ay, az)
-            if a_init >= 0.0:
-                # The start: for the first tau_acc seconds the filter's output is the plain mean of the samples
-                # in I (as VQF and the AttitudeEstimator start theirs): a low-pass started at the first sample
-                # would carry that sample's linear acceleration for several tau_acc.
-                asx += ix
-                asy += iy
-                asz += iz
-                a_cnt += 1.0
-                m0, m1, m2 = asx / a_cnt, asy / a_cnt, asz / a_cnt
-                a_init += t_acc
-                if a_init >= tau_acc * (1.0 - 1e-9):  # hand over to the filter, in steady state at the mean
-                    a_init = -1.0
-                    l0 = l1 = l2 = 0.0
-            else:
-                m0, l0 = lowpass2_step(m0, l0, ix, p00, p01, p10, p11)
-                m1, l1 = lowpass2_step(m1, l1, iy, p00, p01, p10, p11)
-                m2, l2 = lowpass2_step(m2, l2, iz, p00, p01, p10, p11)
+            # the start's plain mean, then the low-pass stepped exactly over the interval (start_or_lowpass)
+            a_init, a_cnt, asx, asy, asz, m0, m1, m2, l0, l1, l2 = start_or_lowpass(
+                ix, iy, iz, t_acc, tau_acc, a_init, a_cnt, asx, asy, asz, m0, m1, m2, l0, l1, l2, p00, p01, p10, p11
+            )
             t_acc = 0.0
         else:
             flag |= FLAG_ACC_REJECTED

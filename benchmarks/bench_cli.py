@@ -69,8 +69,13 @@ FLOORS = {
 }
 
 
-def timed(src: str, args: list[str], env_extra: dict | None = None, cwd: str | None = None) -> tuple[float, float]:
-    """(wall seconds, CPU seconds: user + system of the child) of one call of ``python *args``."""
+def timed(
+    src: str, args: list[str], env_extra: dict | None = None, cwd: str | None = None, output: list | None = None
+) -> tuple[float, float]:
+    """(wall seconds, CPU seconds: user + system of the child) of one call of ``python *args``.
+
+    ``output``, when given, receives the call's standard output.
+    """
     env = dict(os.environ, PYTHONPATH=src, **(env_extra or {}))
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
@@ -80,6 +85,8 @@ def timed(src: str, args: list[str], env_extra: dict | None = None, cwd: str | N
     if res.returncode != 0:
         raise SystemExit(f"python {' '.join(args)} failed with {src}:\n{res.stderr}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if output is not None:
+        output.append(res.stdout)
     return seconds, cpu
 
 
@@ -118,14 +125,19 @@ def main() -> None:
                     times[src][name].append(timed(src, args))
             for name, code in FLOORS.items():
                 floors[name].append(timed(sources[-1], ["-c", code]))
-        cold, warmed = {}, {}
+        cold, warmed, compiled = {}, {}, {}
         if a.cold:
+            # numba says what it saves to the cache (NUMBA_DEBUG_CACHE): the kernels a call had to compile
             for src in sources:
+                log = []
                 with tempfile.TemporaryDirectory() as cache:
-                    cold[src] = timed(src, calls["estimate"], {"NUMBA_CACHE_DIR": cache})
+                    env = {"NUMBA_CACHE_DIR": cache, "NUMBA_DEBUG_CACHE": "1"}
+                    cold[src] = timed(src, calls["estimate"], env, output=log)
                 with tempfile.TemporaryDirectory() as cache:
                     step = timed(src, ["-m", "strapdown.warmup", "--quiet"], {"NUMBA_CACHE_DIR": cache})
-                    warmed[src] = (step, timed(src, calls["estimate"], {"NUMBA_CACHE_DIR": cache}))
+                    env = {"NUMBA_CACHE_DIR": cache, "NUMBA_DEBUG_CACHE": "1"}
+                    warmed[src] = (step, timed(src, calls["estimate"], env, output=log))
+                compiled[src] = [text.count("data saved") for text in log]  # cold, after the warm-up
     load = os.getloadavg()[0]
     bytecode = "compiled every call (--no-pyc)" if a.no_pyc else "read from .pyc, as after pip install"
     print(f"load average {load_start:.1f} at the start, {load:.1f} at the end, on {os.cpu_count()} cores")
@@ -138,9 +150,9 @@ def main() -> None:
         if src in cold:
             step, after = warmed[src]
             for name, (w, c), what in (
-                ("cold", cold[src], "estimate, empty numba cache"),
+                ("cold", cold[src], f"estimate, empty numba cache: {compiled[src][0]} kernels compiled"),
                 ("warmup", step, "python -m strapdown.warmup, empty numba cache"),
-                ("after it", after, "estimate, first call after that warm-up"),
+                ("after it", after, f"estimate after it: {compiled[src][1]} kernels compiled"),
             ):
                 print(f"{src[-48:]:48} {name:9} {w:8.3f} {'':6} {'':6} {c:8.3f}   ({what})")
     print("the floor, with the last checkout: python -c ...")
@@ -159,7 +171,7 @@ def main() -> None:
                 print(f"{name} {what}: last / first checkout = {n / b:.2f}")
     if a.json:
         out = {"load": [load_start, load], "runs": a.runs, "pyc": not a.no_pyc, "times": times, "cold": cold}
-        out.update(warmup=warmed, floors=floors)
+        out.update(warmup=warmed, compiled_after_warmup=compiled, floors=floors)
         Path(a.json).write_text(json.dumps(out, indent=1))
 
 

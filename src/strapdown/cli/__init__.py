@@ -1,8 +1,9 @@
 """The ``strapdown`` command line (click, from the ``cli`` extra): one module per command, loaded when it runs.
 
-Library commands: ``demo``, ``compare``, ``evaluate``.  File commands (the ``io`` extra): ``integrate``,
-``estimate``, ``convert``, ``simulate``, ``plot``, and ``batch`` to run ``integrate``, ``estimate`` or ``convert`` on
-many files at once (local cores or a Dask cluster) or one integration split across workers.
+Library commands: ``demo``, ``compare``, ``evaluate``, and ``warmup`` (compile the kernels once after an
+install).  File commands (the ``io`` extra): ``integrate``, ``estimate``, ``convert``, ``simulate``, ``plot``, and
+``batch`` to run ``integrate``, ``estimate`` or ``convert`` on many files at once (local cores or a Dask cluster)
+or one integration split across workers.
 
 Each command lives in its own module of this package (``strapdown.cli.estimate`` ...), which defines a click
 command named ``command``; :data:`COMMANDS` lists them with their one-line help.  The group imports a command's
@@ -28,6 +29,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "integrate": ("strapdown.cli.integrate", "Integrate the gyro readings of INPUT into attitudes."),
     "plot": ("strapdown.cli.plot", "Write PNG figures of an attitude file."),
     "simulate": ("strapdown.cli.simulate", "Write a simulated IMU log to OUTPUT."),
+    "warmup": ("strapdown.cli.warmup", "Compile the numba kernels once after an install."),
 }
 
 _EPILOG = """\b
@@ -42,6 +44,7 @@ Examples:
   strapdown demo
   strapdown compare --scenario hammerhead-loop
   strapdown evaluate path/to/broad/data_mat --estimator tilt
+  strapdown warmup                                            # once after installing
   strapdown --version
 """
 

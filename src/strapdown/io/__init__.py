@@ -28,9 +28,9 @@ Examples
 True
 """
 
-import importlib
+from .._lazy import exports
 
-# The names below are imported from their modules when first used (PEP 562): ``strapdown.io.units`` or
+# The names below are imported from their modules when first used: ``strapdown.io.units`` or
 # ``strapdown.io.readers`` alone (the command line's option parsing) then does not load the pipeline, the
 # writers and every format.
 _HOME = {
@@ -60,24 +60,4 @@ _HOME = {
     "units": ("UNITS",),
     "writers": ("TableWriter", "table_writer", "write_table"),
 }
-_MODULE_OF = {name: module for module, names in _HOME.items() for name in names}
-__all__ = sorted(_MODULE_OF)
-
-
-def __getattr__(name: str):
-    module = _MODULE_OF.get(name)
-    if module is not None:
-        value = getattr(importlib.import_module(f".{module}", __name__), name)
-        globals()[name] = value  # once: later lookups find it without this function
-        return value
-    if not name.startswith("_"):  # a submodule, as ``strapdown.io.tables`` was after ``import strapdown.io``
-        try:
-            return importlib.import_module(f".{name}", __name__)
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__, __all__ = exports(__name__, _HOME)

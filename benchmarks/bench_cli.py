@@ -59,13 +59,16 @@ def write_csv(path: Path, n: int = 200) -> Path:
 
 #: The floor under any call, measured in the same run with the last checkout: what every ``strapdown estimate``
 #: pays before it does anything of its own (Python with numpy; then numba imported and one cached kernel loaded,
-#: the first of a process, which loads numba's registries).  "no scipy" makes scipy unimportable in that process
-#: only, as for a user without it: numba then skips its BLAS check, which imports scipy.linalg when it is there.
+#: the first of a process, which loads numba's registries), ending as the program ends (``gc.freeze()``, see
+#: ``strapdown.cli._before_exit``).  "no scipy" makes scipy unimportable in that process only, as for a user
+#: without it: numba then skips its BLAS check, which imports scipy.linalg when it is there.  "plain exit" is
+#: "numba" without the freeze: the difference is the interpreter's last garbage collection over numba's objects.
+_ONE_KERNEL = "import numpy as np; from strapdown import from_matrix; from_matrix(np.eye(3))"
 FLOORS = {
     "numpy": "import numpy",
-    "numba": "import numpy as np; from strapdown import from_matrix; from_matrix(np.eye(3))",
-    "no scipy": "import sys; sys.modules['scipy'] = None; "
-    "import numpy as np; from strapdown import from_matrix; from_matrix(np.eye(3))",
+    "numba": f"{_ONE_KERNEL}; import gc; gc.freeze()",
+    "no scipy": f"import sys; sys.modules['scipy'] = None; {_ONE_KERNEL}; import gc; gc.freeze()",
+    "plain exit": _ONE_KERNEL,
 }
 
 
@@ -160,6 +163,7 @@ def main() -> None:
         ("numpy", "import numpy"),
         ("numba", "and numba, one cached kernel"),
         ("no scipy", "the same, scipy unimportable"),
+        ("plain exit", "numba, one kernel, exit without gc.freeze()"),
     ):
         print(f"{what:48} {name:9} {summary(floors[name])}")
     if len(sources) > 1:

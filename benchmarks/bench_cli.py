@@ -59,16 +59,17 @@ def write_csv(path: Path, n: int = 200) -> Path:
 
 #: The floor under any call, measured in the same run with the last checkout: what every ``strapdown estimate``
 #: pays before it does anything of its own (Python with numpy; then numba imported and one cached kernel loaded,
-#: the first of a process, which loads numba's registries), ending as the program ends (``gc.freeze()``, see
-#: ``strapdown.cli._before_exit``).  "no scipy" makes scipy unimportable in that process only, as for a user
-#: without it: numba then skips its BLAS check, which imports scipy.linalg when it is there.  "plain exit" is
-#: "numba" without the freeze: the difference is the interpreter's last garbage collection over numba's objects.
+#: the first of a process, which loads numba's registries), with garbage collection as the program has it
+#: (paused while it starts, then what exists frozen: ``strapdown.cli._options.PausedCollection``).  "no scipy"
+#: makes scipy unimportable in that process only, as for a user without it: numba then skips its BLAS check,
+#: which imports scipy.linalg when it is there.  "gc as usual" is "numba" with the collector left alone: the
+#: difference is the collections over numba's objects, while it loads and at the interpreter's exit.
 _ONE_KERNEL = "import numpy as np; from strapdown import from_matrix; from_matrix(np.eye(3))"
 FLOORS = {
     "numpy": "import numpy",
-    "numba": f"{_ONE_KERNEL}; import gc; gc.freeze()",
-    "no scipy": f"import sys; sys.modules['scipy'] = None; {_ONE_KERNEL}; import gc; gc.freeze()",
-    "plain exit": _ONE_KERNEL,
+    "numba": f"import gc; gc.disable(); {_ONE_KERNEL}; gc.freeze(); gc.enable()",
+    "no scipy": f"import gc, sys; sys.modules['scipy'] = None; gc.disable(); {_ONE_KERNEL}; gc.freeze(); gc.enable()",
+    "gc usual": _ONE_KERNEL,
 }
 
 
@@ -163,7 +164,7 @@ def main() -> None:
         ("numpy", "import numpy"),
         ("numba", "and numba, one cached kernel"),
         ("no scipy", "the same, scipy unimportable"),
-        ("plain exit", "numba, one kernel, exit without gc.freeze()"),
+        ("gc usual", "the same, garbage collection as usual"),
     ):
         print(f"{what:48} {name:9} {summary(floors[name])}")
     if len(sources) > 1:

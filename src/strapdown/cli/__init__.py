@@ -89,6 +89,10 @@ def _version() -> str:
     return sys.modules["strapdown"].__version__
 
 
+#: Whether this process is the ``strapdown`` program (:func:`main` without arguments), which ends with its command.
+RUNNING_AS_PROGRAM = False
+
+
 def main(argv=None):
     """Entry point of the ``strapdown`` command.
 
@@ -104,6 +108,8 @@ def main(argv=None):
             raise
         sys.stderr.write("the strapdown command line needs click: pip install 'strapdown[cli]'\n")
         return 2
+    global RUNNING_AS_PROGRAM
+    RUNNING_AS_PROGRAM = argv is None
     try:
         return cli.main(args=argv, prog_name="strapdown")
     finally:

@@ -17,7 +17,7 @@ empty cache followed by one call (the documented warm-up step, and what the call
 
 Bytecode: ``pip install`` compiles every module to ``.pyc`` and Python writes them for a source checkout at
 the first import, so a user's call reads bytecode.  Where ``PYTHONDONTWRITEBYTECODE`` is set (the development
-machine sets it) every call would instead compile the package's sources again (0.03-0.05 s per call here),
+machine sets it) every call would instead compile the package's sources again,
 so the benchmark clears it for the measured processes; ``--no-pyc`` keeps it, to measure that case.
 
 The floor: each run also times, with the last checkout, ``python -c "import numpy"`` and a process that imports

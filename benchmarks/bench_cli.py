@@ -18,7 +18,9 @@ empty cache followed by one call (the documented warm-up step, and what the call
 Bytecode: ``pip install`` compiles every module to ``.pyc`` and Python writes them for a source checkout at
 the first import, so a user's call reads bytecode.  Where ``PYTHONDONTWRITEBYTECODE`` is set (the development
 machine sets it) every call would instead compile the package's sources again,
-so the benchmark clears it for the measured processes; ``--no-pyc`` keeps it, to measure that case.
+so the benchmark clears it for the measured processes.  ``--no-pyc`` measures that case: it deletes the
+checkouts' own ``.pyc`` files (Python's bytecode cache of ``strapdown``, not numba's) and sets the variable, so
+that every call compiles the package again while numpy, numba and the rest read their installed bytecode.
 
 The floor: each run also times, with the last checkout, ``python -c "import numpy"`` and a process that imports
 numba and loads one cached kernel (:data:`FLOORS`), with and without scipy importable: the part of every call
@@ -105,11 +107,16 @@ def main() -> None:
     parser.add_argument("--src", action="append", help="A checkout's src folder (repeatable; default: ./src).")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--cold", action="store_true", help="Also time one call with an empty numba cache.")
-    parser.add_argument("--no-pyc", action="store_true", help="Keep PYTHONDONTWRITEBYTECODE (compile every call).")
+    parser.add_argument("--no-pyc", action="store_true", help="Compile the package every call (see above).")
     parser.add_argument("--json", help="Write the figures here.")
     a = parser.parse_args()
     if not a.no_pyc:  # the measured processes (children) inherit this environment
         os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+    else:
+        os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
+        for src in a.src or [str(HERE / "src")]:
+            for pyc in (Path(src) / "strapdown").rglob("*.pyc"):
+                pyc.unlink()
     load_start = os.getloadavg()[0]
     sources = [str(Path(s).resolve()) for s in (a.src or [str(HERE / "src")])]
     with tempfile.TemporaryDirectory() as tmp:

@@ -121,7 +121,7 @@ def _before_exit() -> None:
     """Leave what is alive now out of the interpreter's last garbage collection, just before the process ends.
 
     At exit CPython collects once more over every object still tracked, and after a numba kernel has been
-    loaded those are numba's and llvmlite's type registries and compiler objects: 0.15-0.25 s of a 1 s
+    loaded those are numba's and llvmlite's type registries and compiler objects: 0.15-0.27 s of a 1 s
     ``strapdown estimate`` on the 2-core machine (``benchmarks/bench_cli.py``), to free memory the operating
     system takes back anyway.  :func:`gc.freeze` moves them out of that collection's reach.  The command has
     finished: its files are closed by their context managers, and atexit handlers still run.  Only when the

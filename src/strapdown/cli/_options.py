@@ -260,9 +260,8 @@ class PausedCollection:
     collector meanwhile runs full passes (0.1-0.2 s of a 200-row ``strapdown estimate`` on the 2-core machine,
     by gc.callbacks), finding nothing to free.  :meth:`resume` (at the first progress report, or when the
     command ends) first freezes what exists when the process is the ``strapdown`` program (``gc.freeze``:
-    those objects are left out of later collections, the use gc's documentation gives for objects made at
-    start-up), then turns collection back on as it was: a long file is collected as usual from its second
-    chunk on.
+    those objects are left out of later collections; they live until the process ends), then turns
+    collection back on as it was: a long file is collected as usual from its second chunk on.
     """
 
     def __init__(self):

@@ -20,7 +20,6 @@ import numpy as np
 
 from .._files import GuardedFile, atomic_path
 from ._arrow import from_numpy
-from ._csvtext import csv_rows
 from ._deps import need
 from .readers import COLUMNS_VARIABLE, format_of
 
@@ -100,14 +99,10 @@ class TableWriter:
                 self._sink.create_dataset(name, shape=(0,), maxshape=(None,), dtype=v.dtype, chunks=(rows,))
 
     def _write_csv(self, columns) -> None:
+        pc = need("pyarrow.csv", "writing CSV files")
         # booleans as 0 and 1, which every CSV reader takes for numbers (Arrow would write true and false)
         columns = {n: np.asarray(v) for n, v in columns.items()}
         columns = {n: v.view(np.uint8) if v.dtype == bool else v for n, v in columns.items()}
-        text = csv_rows(columns)  # a small chunk: Arrow's text, without waiting for pyarrow's import
-        if text is not None:
-            self._sink.write(text.encode())
-            return
-        pc = need("pyarrow.csv", "writing CSV files")
         pc.write_csv(_batch(columns), self._sink, pc.WriteOptions(include_header=False))
 
     def _write_parquet(self, columns, copy: bool = True) -> None:

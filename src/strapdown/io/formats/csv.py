@@ -1,10 +1,6 @@
 """Delimited text: CSV, TSV, ``;``-separated files with decimal commas, and the headers instruments write.
 
-Read with pyarrow's streaming CSV reader; a small file of plain numbers (:data:`LIGHT_BYTES`) is parsed here
-instead, with the same values as a result (``float`` and Arrow both round decimal text correctly), so that a
-short command does not wait for pyarrow's import (0.04-0.07 s, more than such a file takes to parse).  Anything
-else in it (quotes, other null markers, a row of another length, a value that is not a plain number) goes to
-pyarrow, which then reads it and reports a problem as before.  Besides a plain header line, the reader takes:
+Read with pyarrow's streaming CSV reader.  Besides a plain header line, the reader takes:
 
 * comment lines before the header (``# frame: NED``), kept as metadata (:func:`strapdown.io.read_metadata`);
 * a header that is itself a comment, as in ASL/EuRoC/TUM-VI files (``#timestamp [ns],w_RS_S_x [rad s^-1],...``);
@@ -27,13 +23,7 @@ from ..source import Source, _arrow_to_numpy, _window, check_chunk_rows
 
 __all__ = ["CsvSource"]
 
-#: Files whose data rows take at most this many bytes are parsed without pyarrow when they hold plain numbers.
-LIGHT_BYTES = 1 << 17
-
 _INTEGER = re.compile(r"^[+-]?\d+$")
-# the decimal numbers both this module's parser and Arrow's read, to the same (correctly rounded) float64
-_PLAIN_NUMBER = re.compile(r"-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
-_LINE_END = re.compile(r"\r\n|\r|\n")
 _DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?$")
 _COMMENT_ITEM = re.compile(r"^#\s*([A-Za-z_][\w .-]*?)\s*[:=]\s*(.*)$")
 
@@ -94,7 +84,6 @@ class CsvSource(Source):
         self._first_values = next(csv.reader(lines[:1], delimiter=self.delimiter), [])
         self.integers = {h for h, v in zip(self.header, self._first_values, strict=False) if _INTEGER.match(v.strip())}
         self._bytes_per_row = max(8, sum(len(s) for s in lines) // max(len(lines), 1))
-        self._light_rows: tuple | None = None  # (offset, the rows split into cells) of a small file (_light)
 
     def _cells(self, lines):
         for values in csv.reader(lines[:8], delimiter=self.delimiter):
@@ -166,62 +155,46 @@ class CsvSource(Source):
 
     def is_timestamp(self, name: str) -> bool:
         """Whether a column holds ISO date-times (judged by its first value)."""
-        return self._types([name])[name].startswith("timestamp")
+        pa = need("pyarrow", "reading CSV files")
+        return self._types([name])[name] != pa.float64()
 
     def _first(self, name: str) -> str | None:
         i = self._index[name]
         return self._first_values[i].strip().rstrip("Z") if i < len(self._first_values) else None
 
-    def _types(self, names, relative=()) -> dict[str, str]:
-        """The type each column is read as, by the name of its Arrow type (no pyarrow needed to choose)."""
+    def _types(self, names, relative=()):
+        pa = need("pyarrow", "reading CSV files")
         types = {}
         for n in names:
             i = self._index[n]
             first = self._first_values[i].strip() if i < len(self._first_values) else ""
-            types[n] = "float64"
+            types[n] = pa.float64()
             if first and not _is_number(first) and _is_timestamp(first):
                 # Arrow takes a trailing Z (UTC) only into a zoned type; cast to naive UTC in _arrow_to_numpy
-                types[n] = "timestamp[ns, tz=UTC]" if first.endswith("Z") else "timestamp[ns]"
+                types[n] = pa.timestamp("ns", tz="UTC") if first.endswith("Z") else pa.timestamp("ns")
             elif n in relative and n in self.integers and abs(int(first)) > 2**53:
-                types[n] = "int64"  # float64 would round the values before their first is subtracted
+                types[n] = pa.int64()  # float64 would round the values before their first is subtracted
         return types
 
     def chunks(self, names, chunk_rows, start=0, stop=None, relative=()):
         """Rows ``start`` to ``stop`` of the named columns, about ``chunk_rows`` at a time."""
+        pc = need("pyarrow.csv", "reading CSV files")
+        pa = need("pyarrow", "reading CSV files")
         chunk_rows = check_chunk_rows(chunk_rows)
         names = list(names)
         if self.rows == 0:
             return
         offset = self._header_bytes if start == 0 else self._row_offset(start)
-        types = self._types(names, relative)
-        origins = {n: self._origin(n, self._first(n)) for n in names if self.is_timestamp(n)}
-        for n in set(relative) & self.integers & set(names):
-            origins[n] = self._int_origin(n, self._first(n))
-        light = self._light(names, offset, types)
-        if light is not None:
-            end = None if stop is None else stop - start
-            cols = {n: v[:end] - float(origins[n]) if origins.get(n) is not None else v[:end] for n, v in light.items()}
-            rows = len(next(iter(cols.values()))) if cols else 0
-            for lo in range(0, rows, chunk_rows):
-                yield start + lo, {n: v[lo : lo + chunk_rows] for n, v in cols.items()}
-            return
-        pc = need("pyarrow.csv", "reading CSV files")
-        pa = need("pyarrow", "reading CSV files")
         block = int(min(max(chunk_rows * self._bytes_per_row, 1 << 16), 1 << 28))
         read = pc.ReadOptions(column_names=self.header, block_size=block)
         parse = pc.ParseOptions(delimiter=self.delimiter)
-        arrow_types = {
-            "float64": pa.float64(),
-            "int64": pa.int64(),
-            "timestamp[ns]": pa.timestamp("ns"),
-            "timestamp[ns, tz=UTC]": pa.timestamp("ns", tz="UTC"),
-        }
+        types = self._types(names, relative)
         convert = pc.ConvertOptions(
-            column_types={n: arrow_types[t] for n, t in types.items()},
-            include_columns=names,
-            strings_can_be_null=True,
-            decimal_point=self.decimal,
+            column_types=types, include_columns=names, strings_can_be_null=True, decimal_point=self.decimal
         )
+        origins = {n: self._origin(n, self._first(n)) for n in names if self.is_timestamp(n)}
+        for n in set(relative) & self.integers & set(names):
+            origins[n] = self._int_origin(n, self._first(n))
         with open(self.path, "rb") as f:
             f.seek(offset)
             try:
@@ -229,7 +202,7 @@ class CsvSource(Source):
                 for row, batch in _window(reader, start, stop, start):
                     cols = {}
                     for n in names:
-                        if types[n] == "float64" and origins.get(n) is not None:
+                        if types[n] == pa.float64() and origins.get(n) is not None:
                             # below 2**53 integers are exact in float64, and so is their difference
                             cols[n] = _arrow_to_numpy(batch.column(n)) - float(origins[n])
                         else:
@@ -237,47 +210,6 @@ class CsvSource(Source):
                     yield row, cols
             except pa.ArrowInvalid as exc:
                 raise ValueError(self._explain(names, start, str(exc), types)) from None
-
-    def _light(self, names, offset: int, types: dict) -> dict | None:
-        """The named columns of every row from byte ``offset`` on, parsed here: a small file of plain numbers.
-
-        None, for pyarrow to read the rows, unless the rows take at most :data:`LIGHT_BYTES` and hold nothing
-        but decimal numbers and empty cells (NaN, as Arrow's nulls) in the columns asked for, with as many
-        fields as the header: then the values are those Arrow gives.  Every row is checked, also past a
-        ``stop``, so that a file with a problem anywhere is read (and reported) by pyarrow, as it would be.
-        """
-        if self.decimal != "." or any(t != "float64" for t in types.values()):
-            return None
-        size = self.path.stat().st_size - offset
-        if size > LIGHT_BYTES:
-            return None
-        cached = self._light_rows
-        if cached is None or cached[0] != offset:
-            with open(self.path, "rb") as f:
-                f.seek(offset)
-                data = f.read(LIGHT_BYTES + 1)
-            rows = None
-            if len(data) <= LIGHT_BYTES and b'"' not in data:  # no quoting: splitting is then what Arrow does
-                try:
-                    text = data.decode("utf-8")
-                except UnicodeDecodeError:
-                    text = None
-                if text is not None:
-                    # Arrow skips empty lines; a line of another length is its error to report
-                    rows = [line.split(self.delimiter) for line in _LINE_END.split(text) if line]
-                    if not rows or any(len(r) != len(self.header) for r in rows):
-                        rows = None  # no rows: pyarrow's answer (nothing, or "Empty CSV file") stands
-            self._light_rows = cached = (offset, rows)
-        rows = cached[1]
-        if rows is None:
-            return None
-        out = {}
-        for n in names:
-            cells = [r[self._index[n]] for r in rows]
-            if not all(c == "" or _PLAIN_NUMBER.fullmatch(c) for c in cells):
-                return None
-            out[n] = np.array([float(c) if c else np.nan for c in cells], dtype=np.float64)
-        return out
 
     def _explain(self, names, start: int, arrow_message: str, types: dict) -> str:
         """Find the first value that is not a number (Arrow does not say where it is)."""
@@ -297,7 +229,7 @@ class CsvSource(Source):
                     v = values[i].strip()
                     if v and not _is_number(v.replace(self.decimal, ".")) and not _is_timestamp(v):
                         return f"{self.path}: {self.where(row)}, column {n!r}: {v!r} is not a number"
-                    if v and types[n] == "int64" and not _INTEGER.match(v):
+                    if v and str(types[n]) == "int64" and not _INTEGER.match(v):
                         return f"{self.path}: {self.where(row)}, column {n!r}: {v!r} is not an integer like the first"
         return f"{self.path}: {arrow_message}"
 

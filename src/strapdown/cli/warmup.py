@@ -14,7 +14,7 @@ def command(tasks, quiet):
     """Compile the kernels of the common calls now, so that no later call waits for numba to compile.
 
     numba compiles each kernel at its first call and caches the machine code beside the installed package (or
-    in NUMBA_CACHE_DIR): the first `strapdown estimate` after an install compiles for about 10-20 s, later
+    in NUMBA_CACHE_DIR): the first `strapdown estimate` after an install compiles for 15-25 s (2 busy cores), later
     ones load the cache.  Run this once after installing to move that wait here (all tasks: about a minute).
     TASKS: integrate, conversions, estimators (default: all); `strapdown estimate` uses estimators and
     conversions, `strapdown integrate` integrate and conversions.

@@ -23,7 +23,8 @@ from ._kernels_numba import (
     gap_rate,
     lowpass2,
     lowpass2_step,
-    right_step,
+    renormalised,
+    right_step_raw,
     rotate,
     start_or_lowpass,
     tilt_to_z,
@@ -68,7 +69,13 @@ RLV = 117  # 3: its rate
 XA = 121  # 3: accelerometer bias, sensor axes, m/s² (Kalman states 6-8)
 ALAST = 124  # 3: the last accelerometer sample (rest detection holds it through missing rows)
 ARES = 127  # 3: the accelerometer's departure from the filtered vector, in I, times dt, summed over the block
-SIZE = 130
+QN = 130  # 1: gyro steps since the gyro frame was last renormalised
+SIZE = 131
+
+# The gyro frame is renormalised every RENORM_STEPS steps, not after each: a step (right_step_raw) keeps |q| to
+# its rounding, about 1e-16 (at most 2e-16), so |q| - 1 stays below ~1e-15 in between; the series normalisation
+# (renormalised) removes it whatever it is.  Counted in the state (QN), so any chunking gives the same results.
+RENORM_STEPS = 8
 
 REST_MEAN_FACTOR = 3.0  # a steady mean rate counts as a bias (rest) up to this many prior spreads
 N_REG = 14
@@ -195,6 +202,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     x[:6] = s[X : X + 6]
     x[6:] = s[XA : XA + 3]
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
+    n_raw = int(s[QN])
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]
@@ -220,7 +228,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     PHt = np.zeros((NX, 3))
     K = np.zeros((NX, 3))
     tmp = np.zeros(3)
-    # regressor outputs; cached block coefficients: T, 4 of lowpass2, kmag, kcur, kref; changes of the 6 row channels
+    # regressor outputs; cached block coefficients: T, 4 of lowpass2, bias decay, kmag, kcur, kref; changes of the 6
+    # row channels
     work = np.zeros(N_REG + 9 + 6)
     work[N_REG] = -1.0
     last_t_acc = -1.0
@@ -231,6 +240,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     sg2 = math.sqrt(P[2, 2])
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
     bax, bay, baz = x[6], x[7], x[8]
+    # the gyro's scale and bias correction times the interval c_dt: φ = ω (1 - s) dt - b dt, formed anew when the
+    # interval or the bias changes
+    c_dt = -1.0
+    kx = ky = kz = ex = ey = ez = 0.0
     start = 0  # first sample of the current block in this chunk
     n_seg = 0
     n = gyr.shape[0]
@@ -242,11 +255,22 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
         wz = gyr[k, 2]
         # 1. gyro frame with the bias and scale factor of the last block update; over an interval that holds
         # missing samples, the rate interpolated across the gap (gap_step)
-        ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
-        ux = ox - bx - sx * ox
-        uy = oy - by - sy * oy
-        uz = oz - bz - sz * oz
-        gw, gx, gy, gz = right_step(gw, gx, gy, gz, ux * dt, uy * dt, uz * dt)
+        if 0.0 < dt <= nominal:  # regular: gap_rate's rate is the sample's own (weight 0 for the previous one)
+            nominal = dt
+            ox, oy, oz = wx, wy, wz
+        else:  # the previous sample (the state's for the first) is read only here
+            if k > 0:
+                gpx, gpy, gpz = gyr[k - 1, 0], gyr[k - 1, 1], gyr[k - 1, 2]
+            ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
+        if dt != c_dt:
+            c_dt = dt
+            kx, ky, kz = (1.0 - sx) * dt, (1.0 - sy) * dt, (1.0 - sz) * dt
+            ex, ey, ez = bx * dt, by * dt, bz * dt
+        gw, gx, gy, gz = right_step_raw(gw, gx, gy, gz, ox * kx - ex, oy * ky - ey, oz * kz - ez)
+        n_raw += 1
+        if n_raw >= RENORM_STEPS:
+            gw, gx, gy, gz = renormalised(gw, gx, gy, gz)
+            n_raw = 0
         # 2. accelerometer in I, Butterworth low-pass; a missing sample (NaN row) holds the filter
         ax_ = acc[k, 0]
         t_acc += dt
@@ -331,6 +355,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
             bax, bay, baz = x[6], x[7], x[8]
             at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
+            c_dt = -1.0
             tb = 0.0
             for i in range(N_SUMS):
                 sums[i] = 0.0
@@ -368,7 +393,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     s[RESTV] = rs[7]
     s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
+    if n and dts[min(n - 1, last)] > 0.0:  # the last sample with an interval (gap_rate)
+        gpx, gpy, gpz = gyr[n - 1, 0], gyr[n - 1, 1], gyr[n - 1, 2]
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
+    s[QN] = n_raw
     return n_seg
 
 
@@ -381,12 +409,12 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
     of its own the processor can pipeline, rather than lengthening the recursion's.
     """
     rest_gyr2, rest_acc2, rest_time, rest_tau = p[8], p[9], p[10], p[11]
-    last = dts.shape[0] - 1
+    last = np.uintp(dts.shape[0] - 1)  # unsigned indices: no wrap-around code for negative ones
     rest_mean_max = REST_MEAN_FACTOR * p[12]
     rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
     rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
     acc2 = squares[1]
-    for j in range(j0, j1):
+    for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
         if dt != last_dt:  # the coefficient changes only with the interval
             rr = 1.0 - math.exp(-dt / rest_tau)
@@ -425,21 +453,22 @@ def _sums(out, gyr, dts, j0, j1, sums, squares):
     The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|².  The rows
     times the bias-and-scale correction are formed at the block update from these.
     """
-    last = dts.shape[0] - 1
+    last = np.uintp(dts.shape[0] - 1)  # unsigned indices: no wrap-around code for negative ones
     # continue the block's running sums in order, so that any chunking gives bit-identical sums
     u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
     u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
     gyr2 = squares[0]
-    for j in range(j0, j1):
+    for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
         r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
-        r01 = 2.0 * (qx * qy - qw * qz) * dt
-        r02 = 2.0 * (qx * qz + qw * qy) * dt
-        r10 = 2.0 * (qx * qy + qw * qz) * dt
+        r01 = (qx * qy - qw * qz) * t2
+        r02 = (qx * qz + qw * qy) * t2
+        r10 = (qx * qy + qw * qz) * t2
         r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
-        r12 = 2.0 * (qy * qz - qw * qx) * dt
+        r12 = (qy * qz - qw * qx) * t2
         u0 += r00
         u1 += r01
         u2 += r02
@@ -472,7 +501,7 @@ def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     The 6D part repeats _sums line for line: one loop with the 9D part behind a ``use_mag`` branch measured 3 %
     slower in 6D (and changes 9D's rounding), so each mode has its straight loop.
     """
-    last = dts.shape[0] - 1
+    last = np.uintp(dts.shape[0] - 1)  # unsigned indices: no wrap-around code for negative ones
     cd = math.cos(0.5 * delta)
     sd = math.sin(0.5 * delta)
     u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
@@ -480,16 +509,17 @@ def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
     h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
     gyr2, mag2 = squares[0], squares[2]
-    for j in range(j0, j1):
+    for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
         r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
-        r01 = 2.0 * (qx * qy - qw * qz) * dt
-        r02 = 2.0 * (qx * qz + qw * qy) * dt
-        r10 = 2.0 * (qx * qy + qw * qz) * dt
+        r01 = (qx * qy - qw * qz) * t2
+        r02 = (qx * qz + qw * qy) * t2
+        r10 = (qx * qy + qw * qz) * t2
         r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
-        r12 = 2.0 * (qy * qz - qw * qx) * dt
+        r12 = (qy * qz - qw * qx) * t2
         u0 += r00
         u1 += r01
         u2 += r02
@@ -512,8 +542,8 @@ def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
         mx = mx if present else 0.0
         my = my if present else 0.0
         mz = mz if present else 0.0
-        r20 = 2.0 * (qx * qz - qw * qy) * dm
-        r21 = 2.0 * (qy * qz + qw * qx) * dm
+        r20 = (qx * qz - qw * qy) * (t2 if present else 0.0)
+        r21 = (qy * qz + qw * qx) * (t2 if present else 0.0)
         r22 = (1.0 - 2.0 * (qx * qx + qy * qy)) * dm
         v0 += r20
         v1 += r21
@@ -556,13 +586,14 @@ def _block(
         work[c + 6] = 1.0 - math.exp(-T / tau_mag)
         work[c + 7] = 1.0 - math.exp(-T / cur_tau)
         work[c + 8] = 1.0 - math.exp(-T / ref_tau)
+        # the bias's Gauss-Markov decay over the block (below)
+        work[c + 5] = math.exp(-T * q_bias / (2.0 * prior * prior))
     p00, p01, p10, p11 = work[c + 1], work[c + 2], work[c + 3], work[c + 4]
-    kmag, kcur, kref = work[c + 6], work[c + 7], work[c + 8]
+    kmag, kcur, kref, phi = work[c + 6], work[c + 7], work[c + 8], work[c + 5]
     # The bias is a first-order Gauss-Markov process: stationary spread `prior` (the prior, instead of a clip),
     # and a correlation time that makes it wander as fast as the forgetting rate says while far inside the prior
     # (dP/dt = 2 prior² / t_c = q_bias).  It pulls the estimate towards zero only at the rate 1/t_c (an hour for
     # the defaults), so a large bias the data show is learnt, not clipped; one beyond `prior` is flagged.
-    phi = math.exp(-T * q_bias / (2.0 * prior * prior))
     for i in range(3):
         x[i] *= phi
         for j in range(NX):
@@ -579,8 +610,9 @@ def _block(
     accu[20] = accu[14] * x[0] + accu[15] * x[1] + accu[16] * x[2] + accu[17] * x[3] + accu[18] * x[4] + accu[19] * x[5]
     start = s[STARTED] == 0.0
     lp = work
+    inv_t = 1.0 / T
     for i in range(N_REG):
-        v = accu[i] / T
+        v = accu[i] * inv_t
         j = REG + 2 * i
         if start:  # steady state at the first block's value
             s[j] = v
@@ -596,7 +628,7 @@ def _block(
         # the measurement is the correction's mean rate over the block, so the regressor is the filter output's
         # mean over the block too, not its end value (half a block later): integrating the filter's ODE
         # (tau²/2) y'' + tau y' + y = u over the block gives mean(y) = u - (tau Δy + tau²/2 Δy') / T exactly
-        lp[i] = v - (tau_acc * (y - y0) + 0.5 * tau_acc * tau_acc * (r - r0)) / T
+        lp[i] = v - (tau_acc * (y - y0) + 0.5 * tau_acc * tau_acc * (r - r0)) * inv_t
     s[STARTED] = 1.0
     w2 = w2_sum / T
     # Linear acceleration a moves the filtered vector by LP[a]/g, whose horizontal rate the regression would

@@ -43,6 +43,29 @@ def right_step(w, x, y, z, px, py, pz):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def right_step_raw(w, x, y, z, px, py, pz):
+    """The product q ⊗ exp(φ/2) not normalised (see renormalised): right_step's update, its product written out.
+
+    Inlined, it takes the caller's fused multiply-adds (qmul, a function of its own, is compiled without them):
+    four products and twelve additions fewer per step, one rounding fewer per term.
+    """
+    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
+    return (
+        w + (w * dw - x * dx - y * dy - z * dz),
+        x + (w * dx + x * dw + y * dz - z * dy),
+        y + (w * dy - x * dz + y * dw + z * dx),
+        z + (w * dz + x * dy - y * dx + z * dw),
+    )
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def renormalised(w, x, y, z):
+    """The series normalisation q (3 - |q|²)/2 of right_step, for a q within rounding of unit norm."""
+    f = 1.5 - 0.5 * (w * w + x * x + y * y + z * z)
+    return w * f, x * f, y * f, z * f
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def left_step(w, x, y, z, px, py, pz):
     """exp(φ/2) ⊗ q, normalised: a rotation by φ in the reference frame."""
     dw, dx, dy, dz = exp_half_minus_one(px, py, pz)

@@ -328,6 +328,7 @@ _LAYOUT = (
     ("acc_bias", "XA", 3),
     ("rest_acc_last", "ALAST", 3),
     ("linear_acc_block_sum", "ARES", 3),
+    ("gyro_steps_unnormalised", "QN", 1),
 )
 
 
@@ -377,6 +378,7 @@ class AttitudeEstimator(Estimator):
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
     _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
     _unit_keys = ("q", "q_gyro", "q_correction")
+    _optional_keys = ("gyro_steps_unnormalised",)  # added in 0.1: an older state starts the count at 0
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
@@ -462,7 +464,7 @@ class AttitudeEstimator(Estimator):
         st = self._state
         s = np.empty(k.SIZE)
         for name, off, size in _LAYOUT:
-            s[getattr(k, off) : getattr(k, off) + size] = st[name]
+            s[getattr(k, off) : getattr(k, off) + size] = st.get(name, 0.0)  # 0: an optional entry missing
         P = np.ascontiguousarray(st["covariance"], dtype=np.float64).copy()
         out = np.empty((n, 4))
         flags = np.empty(n, dtype=np.uint8)

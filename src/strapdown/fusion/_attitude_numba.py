@@ -27,7 +27,7 @@ from ._kernels_numba import (
     right_step_raw,
     rotate,
     start_or_lowpass,
-    tilt_to_z,
+    tilt_to_z_scaled,
     unit_rotvec,
 )
 
@@ -193,7 +193,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     last = dts.shape[0] - 1  # sample k's interval is dts[min(k, last)]: a constant one may come as two entries
     at_limit = FLAG_BIAS_AT_LIMIT if max(abs(s[X]), abs(s[X + 1]), abs(s[X + 2])) > prior else 0
     gw, gx, gy, gz = s[QG], s[QG + 1], s[QG + 2], s[QG + 3]
-    cw, c1, c2 = s[QC], s[QC + 1], s[QC + 2]
+    # the correction q_c = (cw, c1, c2, 0) as (rw, r1, r2) times rinv (tilt_to_z_scaled); from the state, normalised
+    rw, r1, r2, rinv = s[QC], s[QC + 1], s[QC + 2], 1.0
     vx, vy, vz = s[AF], s[AF + 1], s[AF + 2]
     mx, my, mz = s[AFO], s[AFO + 1], s[AFO + 2]
     a_init, a_cnt = s[AINIT], s[ACNT]
@@ -293,13 +294,15 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
                 lin_y += (iy - my) * f_dt
                 lin_z += (iz - mz) * f_dt
             # 3. the correction: the tilt quaternion that turns the filtered vector vertical
-            cw, c1, c2 = tilt_to_z(mx, my, mz)
-        else:
+            rw, r1, r2, rinv = tilt_to_z_scaled(mx, my, mz)
+        else:  # held, normalised as the state holds it (so that any chunking gives the same results)
             flag |= FLAG_ACC_MISSING
-        out[k, 0] = cw * gw - c1 * gx - c2 * gy  # the 6D attitude q_c ⊗ q_g (the k part of q_c is 0)
-        out[k, 1] = cw * gx + c1 * gw + c2 * gz
-        out[k, 2] = cw * gy - c1 * gz + c2 * gw
-        out[k, 3] = cw * gz + c1 * gy - c2 * gx
+            rw, r1, r2, rinv = rw * rinv, r1 * rinv, r2 * rinv, 1.0
+        # the 6D attitude q_c ⊗ q_g (the k part of q_c is 0), scaled after the product
+        out[k, 0] = (rw * gw - r1 * gx - r2 * gy) * rinv
+        out[k, 1] = (rw * gx + r1 * gw + r2 * gz) * rinv
+        out[k, 2] = (rw * gy - r1 * gz + r2 * gw) * rinv
+        out[k, 3] = (rw * gz + r1 * gy - r2 * gx) * rinv
         flags[k] = flag | at_limit
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
@@ -316,6 +319,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             rest, rr = rs[6], rs[11]
             start = k + 1
             # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
+            cw, c1, c2 = rw * rinv, r1 * rinv, r2 * rinv
             ex_sum, ey_sum, _ = unit_rotvec(
                 cw * sw + c1 * s1 + c2 * s2, c1 * sw - cw * s1, c2 * sw - cw * s2, c2 * s1 - c1 * s2
             )
@@ -373,7 +377,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
         seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
         n_seg += 1
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
-    s[QC], s[QC + 1], s[QC + 2] = cw, c1, c2
+    s[QC], s[QC + 1], s[QC + 2] = rw * rinv, r1 * rinv, r2 * rinv
     s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
     s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz
     s[AINIT], s[ACNT] = a_init, a_cnt
@@ -414,24 +418,30 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
     rgx, rgy, rgz, rax, ray, raz = rs[0], rs[1], rs[2], rs[3], rs[4], rs[5]
     rest, rv, ax, ay, az, rr, last_dt = rs[6], rs[7], rs[8], rs[9], rs[10], rs[11], rs[12]
     acc2 = squares[1]
+    # A sample's departure from the mean after it is (1 - rr) times its departure from the mean before it (the
+    # exponential mean's step), so the squared departures come from the differences the means are stepped with.
+    keep2 = (1.0 - rr) * (1.0 - rr)
     for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
         if dt != last_dt:  # the coefficient changes only with the interval
             rr = 1.0 - math.exp(-dt / rest_tau)
+            keep2 = (1.0 - rr) * (1.0 - rr)
             last_dt = dt
         wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
         a0, a1, a2 = acc[j, 0], acc[j, 1], acc[j, 2]
         acc2 += a0 * a0 + a1 * a1 + a2 * a2  # NaN for a missing sample: the input checks then look closer
         if a0 == a0:  # a missing sample holds the last one
             ax, ay, az = a0, a1, a2
-        rgx += rr * (wx - rgx)
-        rgy += rr * (wy - rgy)
-        rgz += rr * (wz - rgz)
-        rax += rr * (ax - rax)
-        ray += rr * (ay - ray)
-        raz += rr * (az - raz)
-        dg = (wx - rgx) ** 2 + (wy - rgy) ** 2 + (wz - rgz) ** 2
-        da = (ax - rax) ** 2 + (ay - ray) ** 2 + (az - raz) ** 2
+        ex, ey, ez = wx - rgx, wy - rgy, wz - rgz
+        fx, fy, fz = ax - rax, ay - ray, az - raz
+        rgx += rr * ex
+        rgy += rr * ey
+        rgz += rr * ez
+        rax += rr * fx
+        ray += rr * fy
+        raz += rr * fz
+        dg = keep2 * (ex * ex + ey * ey + ez * ez)
+        da = keep2 * (fx * fx + fy * fy + fz * fz)
         rv += rr * (dg - rv)
         # steady is not still: a turntable or a steady turn keeps the gyro near its mean too, so the mean itself
         # must also be plausible as a bias under the prior (VQF tests it against its bias clip)

@@ -115,6 +115,28 @@ def tilt_to_z(vx, vy, vz):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def tilt_to_z_scaled(vx, vy, vz):
+    """tilt_to_z as (w, vy, -vx) and the factor 1/|(w, vy, -vx)| that normalises it, w = |v| + v_z.
+
+    A product with the tilt quaternion can then run beside the square root and division of the factor and be
+    scaled after.  For v up, |(w, vy, -vx)|² = w² + vx² + vy² = 2|v|w = 2|v|² + 2 v_z |v|: one fused step after
+    the root of |v|² instead of two.
+    """
+    s2 = vx * vx + vy * vy
+    if s2 == 0.0:
+        return (1.0, 0.0, 0.0, 1.0) if vz >= 0.0 else (0.0, 1.0, 0.0, 1.0)
+    n2 = s2 + vz * vz
+    nv = math.sqrt(n2)
+    if vz >= 0.0:
+        w = nv + vz
+        y = 2.0 * vz * nv + 2.0 * n2
+    else:  # without cancellation (_arc_w)
+        w = s2 / (nv - vz)
+        y = w * w + s2
+    return w, vy, -vx, 1.0 / math.sqrt(y)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def tilt_to_vertical(vx, vy, vz):
     """Rotation vector (horizontal) that turns the direction v onto +z: axis v×z, angle atan2(|v×z|, v·z)."""
     s = math.sqrt(vx * vx + vy * vy)

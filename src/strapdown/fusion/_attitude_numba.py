@@ -181,8 +181,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
 
     Bias and its standard deviation change at block updates only, so they are not written per sample: segment
     i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[i, :3]``) and its standard deviations
-    (``seg_val[i, 3:]``); the arrays need room for n + 1 segments; returns how many were written.  ``squares``
-    gets the sums of squares of gyr, acc and (9D) mag added, for the input checks (Estimator.checks_in_kernel).
+    (``seg_val[i, 3:]``); the arrays need room for every block that ends in the chunk and the unfinished one
+    (attitude.py sizes them; more blocks than they hold stop the kernel); returns how many were written.
+    ``squares`` gets the sums of squares of gyr, acc and (9D) mag added, for the input checks
+    (Estimator.checks_in_kernel).
 
     Speed: the per-sample recursion (gyro frame, filter, correction) runs first over a block and writes the 6D
     attitudes to ``out``; simple loops then form the block's regressor sums from them, detect rest and, in 9D,
@@ -312,6 +314,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             else:
                 _sums(out, gyr, dts, start, k + 1, sums, squares)
             _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
+            if n_seg >= seg_end.shape[0] - 1:  # never with the sizes _run gives (no writes out of bounds)
+                raise ValueError("AttitudeEstimator: more blocks than the segment buffers hold")
             seg_end[n_seg] = k + 1
             seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
             seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2

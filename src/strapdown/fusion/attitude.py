@@ -468,12 +468,18 @@ class AttitudeEstimator(Estimator):
         P = np.ascontiguousarray(st["covariance"], dtype=np.float64).copy()
         out = np.empty((n, 4))
         flags = np.empty(n, dtype=np.uint8)
-        # bias and sigma per block (pages of these buffers beyond the blocks written are never touched)
-        seg_end = np.empty(n + 1, dtype=np.int64)
-        seg_val = np.empty((n + 1, 6))
+        p = self.params._vector()
+        # Bias and sigma per block.  A block ends once its intervals sum to its length T (within 1e-9), so every
+        # block but the first (which may be under way from the last chunk) holds more than T / (2 dt_max) samples:
+        # with the unfinished last one, at most n // floor(T / (2 dt_max)) + 2 segments.  Buffers of that size,
+        # not n + 1, spare a call the (huge) pages it would fault in for one row in every few dozen.
+        longest = float(dts.max()) if n else 0.0
+        per_block = int(0.5 * p[18] / longest) if longest > 0.0 else 0
+        n_seg_max = n + 1 if per_block < 1 else min(n + 1, n // per_block + 2)
+        seg_end = np.empty(n_seg_max, dtype=np.int64)
+        seg_val = np.empty((n_seg_max, 6))
         m = mag if mag is not None else np.zeros((1, 3))
         squares = np.zeros(3)
-        p = self.params._vector()
         n_seg = k.run(gyr, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
         for name, off, size in _LAYOUT:
             st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()

@@ -243,8 +243,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     sg2 = math.sqrt(P[2, 2])
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
     bax, bay, baz = x[6], x[7], x[8]
-    # the gyro's scale and bias correction times the interval c_dt: φ = ω (1 - s) dt - b dt, formed anew when the
-    # interval or the bias changes
+    # the gyro's scale and bias correction times half the interval c_dt: φ/2 = ω (1 - s) dt/2 - b dt/2, formed
+    # anew when the interval or the bias changes
     c_dt = -1.0
     kx = ky = kz = ex = ey = ez = 0.0
     start = 0  # first sample of the current block in this chunk
@@ -262,13 +262,15 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             nominal = dt
             ox, oy, oz = wx, wy, wz
         else:  # the previous sample (the state's for the first) is read only here
+            px, py, pz = gpx, gpy, gpz
             if k > 0:
-                gpx, gpy, gpz = gyr[k - 1, 0], gyr[k - 1, 1], gyr[k - 1, 2]
-            ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, wx, wy, wz, gpx, gpy, gpz)
+                px, py, pz = gyr[k - 1, 0], gyr[k - 1, 1], gyr[k - 1, 2]
+            ox, oy, oz, nominal, _, _, _ = gap_rate(dt, nominal, wx, wy, wz, px, py, pz)
         if dt != c_dt:
             c_dt = dt
-            kx, ky, kz = (1.0 - sx) * dt, (1.0 - sy) * dt, (1.0 - sz) * dt
-            ex, ey, ez = bx * dt, by * dt, bz * dt
+            h = 0.5 * dt
+            kx, ky, kz = (1.0 - sx) * h, (1.0 - sy) * h, (1.0 - sz) * h
+            ex, ey, ez = bx * h, by * h, bz * h
         gw, gx, gy, gz = right_step_raw(gw, gx, gy, gz, ox * kx - ex, oy * ky - ey, oz * kz - ez)
         n_raw += 1
         if n_raw >= RENORM_STEPS:

@@ -6,7 +6,7 @@ import math
 
 import numba as nb
 
-from .._integrate_numba import exp_half_minus_one
+from .._integrate_numba import TAYLOR_SHORT, exp_half_minus_one
 from .._quaternion_numba import qmul
 
 
@@ -43,13 +43,27 @@ def right_step(w, x, y, z, px, py, pz):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
-def right_step_raw(w, x, y, z, px, py, pz):
-    """The product q ⊗ exp(φ/2) not normalised (see renormalised): right_step's update, its product written out.
+def _exp_minus_one(ax, ay, az):
+    """exp(a) - 1 of the half angle a = φ/2: exp_half_minus_one(2a) bit for bit, without its halving.
+
+    For |a| < 0.1 (every filter step at sensor rates) its series, the same lines; beyond, that function itself.
+    """
+    u = ax * ax + ay * ay + az * az
+    if u < TAYLOR_SHORT:
+        cm1 = u * (-1.0 / 2.0 + u * (1.0 / 24.0 + u * (-1.0 / 720.0 + u * (1.0 / 40320.0))))
+        s = 1.0 + u * (-1.0 / 6.0 + u * (1.0 / 120.0 + u * (-1.0 / 5040.0 + u * (1.0 / 362880.0))))
+        return cm1, s * ax, s * ay, s * az
+    return exp_half_minus_one(2.0 * ax, 2.0 * ay, 2.0 * az)  # 2a halved is a again, exactly
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def right_step_raw(w, x, y, z, ax, ay, az):
+    """The product q ⊗ exp(a), a = φ/2, not normalised (see renormalised): right_step's update, written out.
 
     Inlined, it takes the caller's fused multiply-adds (qmul, a function of its own, is compiled without them):
     four products and twelve additions fewer per step, one rounding fewer per term.
     """
-    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
+    dw, dx, dy, dz = _exp_minus_one(ax, ay, az)
     return (
         w + (w * dw - x * dx - y * dy - z * dz),
         x + (w * dx + x * dw + y * dz - z * dy),

@@ -180,9 +180,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     tau, new-field time, block length (s).
 
     Bias and its standard deviation change at block updates only, so they are not written per sample: segment
-    i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[i, :3]``) and its standard deviations
-    (``seg_val[i, 3:]``); the arrays need room for every block that ends in the chunk and the unfinished one
-    (attitude.py sizes them; more blocks than they hold stop the kernel); returns how many were written.
+    i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[0, i]``) and its standard deviations
+    (``seg_val[1, i]``: each part contiguous, handed on without a copy); the arrays need room for every block
+    that ends in the chunk and the unfinished one (attitude.py sizes them; more blocks than they hold stop the
+    kernel); returns how many were written.
     ``squares`` gets the sums of squares of gyr, acc and (9D) mag added, for the input checks
     (Estimator.checks_in_kernel).
 
@@ -316,11 +317,12 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
             else:
                 _sums(out, gyr, dts, start, k + 1, sums, squares)
             _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
-            if n_seg >= seg_end.shape[0] - 1:  # never with the sizes _run gives (no writes out of bounds)
+            # never with the sizes _run gives (no writes out of bounds)
+            if n_seg >= seg_end.shape[0] - 1 or n_seg >= seg_val.shape[1] - 1:
                 raise ValueError("AttitudeEstimator: more blocks than the segment buffers hold")
             seg_end[n_seg] = k + 1
-            seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
-            seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
+            seg_val[0, n_seg, 0], seg_val[0, n_seg, 1], seg_val[0, n_seg, 2] = bx, by, bz
+            seg_val[1, n_seg, 0], seg_val[1, n_seg, 1], seg_val[1, n_seg, 2] = sg0, sg1, sg2
             n_seg += 1
             rest, rr = rs[6], rs[11]
             start = k + 1
@@ -379,8 +381,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     _rest(gyr, acc, dts, start, n, p, rs, flags, squares)
     if start < n:
         seg_end[n_seg] = n
-        seg_val[n_seg, 0], seg_val[n_seg, 1], seg_val[n_seg, 2] = bx, by, bz
-        seg_val[n_seg, 3], seg_val[n_seg, 4], seg_val[n_seg, 5] = sg0, sg1, sg2
+        seg_val[0, n_seg, 0], seg_val[0, n_seg, 1], seg_val[0, n_seg, 2] = bx, by, bz
+        seg_val[1, n_seg, 0], seg_val[1, n_seg, 1], seg_val[1, n_seg, 2] = sg0, sg1, sg2
         n_seg += 1
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = rw * rinv, r1 * rinv, r2 * rinv

@@ -477,7 +477,7 @@ class AttitudeEstimator(Estimator):
         per_block = int(0.5 * p[18] / longest) if longest > 0.0 else 0
         n_seg_max = n + 1 if per_block < 1 else min(n + 1, n // per_block + 2)
         seg_end = np.empty(n_seg_max, dtype=np.int64)
-        seg_val = np.empty((n_seg_max, 6))
+        seg_val = np.empty((2, n_seg_max, 3))  # bias, sigma
         m = mag if mag is not None else np.zeros((1, 3))
         squares = np.zeros(3)
         n_seg = k.run(gyr, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
@@ -486,8 +486,10 @@ class AttitudeEstimator(Estimator):
         st["covariance"] = P
         if n:
             st["q"] = out[-1].copy()
-        vals = seg_val[:n_seg]
-        segments = (seg_end[:n_seg].copy(), vals[:, :3].copy(), {"bias_sigma": vals[:, 3:].copy()})
+        ends, vals = seg_end[:n_seg], seg_val[:, :n_seg]
+        if n_seg_max > 2 * n_seg + 2:  # views would keep a mostly unused buffer alive (long intervals): copies
+            ends, vals = ends.copy(), vals.copy()
+        segments = (ends, vals[0], {"bias_sigma": vals[1]})
         return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
 
 

@@ -598,7 +598,10 @@ def _block(
     w2_sum = accu[24]
     t_mag = accu[25]
     c = N_REG
-    if abs(T - work[c]) > 1e-9 * T:  # blocks have the same length unless the sample intervals change
+    # Blocks have the same length unless the sample intervals change.  Recomputed on any change, however small:
+    # reused across a change below rounding, they would depend on where a chunk started (each chunk computes them
+    # afresh), and chunked results would differ from whole ones at rounding level.
+    if T != work[c]:
         work[c] = T
         work[c + 1], work[c + 2], work[c + 3], work[c + 4] = lowpass2(T, tau_acc)
         work[c + 6] = 1.0 - math.exp(-T / tau_mag)

@@ -61,7 +61,7 @@ def right_step_raw(w, x, y, z, ax, ay, az):
     """The product q ⊗ exp(a), a = φ/2, not normalised (see renormalised): right_step's update, written out.
 
     Inlined, it takes the caller's fused multiply-adds (qmul, a function of its own, is compiled without them):
-    four products and twelve additions fewer per step, one rounding fewer per term.
+    twelve of the product's sixteen multiplications fused with its twelve additions, one rounding fewer each.
     """
     dw, dx, dy, dz = _exp_minus_one(ax, ay, az)
     return (

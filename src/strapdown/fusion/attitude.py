@@ -378,7 +378,7 @@ class AttitudeEstimator(Estimator):
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
     _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
     _unit_keys = ("q", "q_gyro", "q_correction")
-    _optional_keys = ("gyro_steps_unnormalised",)  # added in 0.1: an older state starts the count at 0
+    _optional_keys = ("gyro_steps_unnormalised",)  # new in this version: a state taken before starts it at 0
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)

@@ -704,6 +704,10 @@ def test_unit_norm_between_renormalisations():
     q = g.update(gyr[5003:], acc[5003:], dt=1e-3).q
     assert np.abs(np.linalg.norm(q, axis=1) - 1.0).max() < 2e-15
     np.testing.assert_allclose(q, est.q[5003:], atol=1e-12)
+    old["gyro_steps_unnormalised"] = np.array([-1e18])  # out of range: renormalised at once, not in 1e18 steps
+    g.state = old
+    q = g.update(gyr[5003:], acc[5003:], dt=1e-3).q
+    assert np.abs(np.linalg.norm(q, axis=1) - 1.0).max() < 2e-15
 
 
 def test_blocks_of_any_length_with_any_chunking():

@@ -206,7 +206,8 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     x[:6] = s[X : X + 6]
     x[6:] = s[XA : XA + 3]
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
-    n_raw = int(s[QN])
+    # a count out of range (a hand-made state) renormalises at the first step
+    n_raw = int(s[QN]) if 0.0 <= s[QN] < RENORM_STEPS else RENORM_STEPS - 1
     sums = np.zeros(N_SUMS)
     sums[:24] = s[ACC : ACC + 24]
     sums[24] = s[W2]

@@ -682,3 +682,49 @@ def test_offline_inclination_filter_is_zero_phase_with_the_squared_gain():
     tilt_online = 2.0 * online.q[mid, 2] / online.q[mid, 0]
     online_amp = np.hypot(*np.linalg.lstsq(basis, tilt_online, rcond=None)[0][:2])
     assert abs(online_amp - amp / 9.80665 * _butterworth_gain(omega, p.tau_acc)) < 0.03 * online_amp
+
+
+def test_unit_norm_between_renormalisations():
+    # The gyro frame is renormalised every few steps only (RENORM_STEPS): a step keeps |q| to its rounding, so
+    # the attitudes stay unit to a few 1e-16 (the property the estimator promises), also spinning at 20 rad/s.
+    n = 100_000
+    t = np.arange(n) * 1e-3
+    gyr = np.column_stack([20.0 * np.cos(0.3 * t), 20.0 * np.sin(0.7 * t), np.full(n, 5.0)])
+    acc = np.tile([0.5, -0.3, 9.8], (n, 1))
+    est = attitude(gyr, acc, dt=1e-3)
+    assert np.abs(np.linalg.norm(est.q, axis=1) - 1.0).max() < 2e-15
+    # a state from before the renormalisation count existed restores, and continues as from a count of 0
+    f = AttitudeEstimator()
+    f.update(gyr[:5003], acc[:5003], dt=1e-3)
+    old = f.state
+    assert old["gyro_steps_unnormalised"][0] == 5003 % 8  # the steps since the last renormalisation
+    del old["gyro_steps_unnormalised"]
+    g = AttitudeEstimator()
+    g.state = old
+    q = g.update(gyr[5003:], acc[5003:], dt=1e-3).q
+    assert np.abs(np.linalg.norm(q, axis=1) - 1.0).max() < 2e-15
+    np.testing.assert_allclose(q, est.q[5003:], atol=1e-12)
+    old["gyro_steps_unnormalised"] = np.array([-1e18])  # out of range: renormalised at once, not in 1e18 steps
+    g.state = old
+    q = g.update(gyr[5003:], acc[5003:], dt=1e-3).q
+    assert np.abs(np.linalg.norm(q, axis=1) - 1.0).max() < 2e-15
+
+
+def test_blocks_of_any_length_with_any_chunking():
+    # Intervals from a tenth of a block to several blocks (the estimator sizes its per-block buffers from the
+    # longest): the bias, piecewise constant per block, is the same under any chunking and has a row per sample.
+    rng = np.random.default_rng(3)
+    d = sim(RandomMotion(duration=60.0, seed=5, acceleration_scale=0.0), bias=0.0)
+    keep = np.sort(rng.choice(len(d.gyro), size=1500, replace=False))
+    t = keep * 0.01  # gaps of up to seconds between the kept samples
+    est = attitude(d.gyro[keep], d.acc[keep], t=t)
+    assert est.bias.shape == (len(keep), 3) and est.extra["bias_sigma"].shape == (len(keep), 3)
+    f = AttitudeEstimator()
+    parts = [f.update(d.gyro[keep[i : i + 97]], d.acc[keep[i : i + 97]], t=t[i : i + 97]) for i in range(0, 1500, 97)]
+    np.testing.assert_array_equal(np.concatenate([p.q for p in parts]), est.q)
+    np.testing.assert_array_equal(np.concatenate([p.bias for p in parts]), est.bias)
+    np.testing.assert_array_equal(np.concatenate([p.extra["bias_sigma"] for p in parts]), est.extra["bias_sigma"])
+    # regular sampling at the shortest interval a block allows a bound for (T / dt just over 2)
+    n = 2001
+    fast = attitude(np.zeros((n, 3)), np.tile([0.0, 0.0, 9.81], (n, 1)), dt=0.2 / 2.0001)
+    assert fast.bias.shape == (n, 3) and np.isfinite(fast.bias).all()

@@ -328,6 +328,7 @@ _LAYOUT = (
     ("acc_bias", "XA", 3),
     ("rest_acc_last", "ALAST", 3),
     ("linear_acc_block_sum", "ARES", 3),
+    ("gyro_steps_unnormalised", "QN", 1),
 )
 
 
@@ -377,6 +378,7 @@ class AttitudeEstimator(Estimator):
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
     _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
     _unit_keys = ("q", "q_gyro", "q_correction")
+    _optional_keys = ("gyro_steps_unnormalised",)  # new in this version: a state taken before starts it at 0
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
@@ -462,24 +464,32 @@ class AttitudeEstimator(Estimator):
         st = self._state
         s = np.empty(k.SIZE)
         for name, off, size in _LAYOUT:
-            s[getattr(k, off) : getattr(k, off) + size] = st[name]
+            s[getattr(k, off) : getattr(k, off) + size] = st.get(name, 0.0)  # 0: an optional entry missing
         P = np.ascontiguousarray(st["covariance"], dtype=np.float64).copy()
         out = np.empty((n, 4))
         flags = np.empty(n, dtype=np.uint8)
-        # bias and sigma per block (pages of these buffers beyond the blocks written are never touched)
-        seg_end = np.empty(n + 1, dtype=np.int64)
-        seg_val = np.empty((n + 1, 6))
+        p = self.params._vector()
+        # Bias and sigma per block.  A block ends once its intervals sum to its length T (within 1e-9), so every
+        # block but the first (which may be under way from the last chunk) holds more than T / (2 dt_max) samples:
+        # with the unfinished last one, at most n // floor(T / (2 dt_max)) + 2 segments.  Buffers of that size,
+        # not n + 1, spare a call the (huge) pages it would fault in for one row in every few dozen.
+        longest = float(dts.max()) if n else 0.0
+        per_block = int(0.5 * p[18] / longest) if longest > 0.0 else 0
+        n_seg_max = n + 1 if per_block < 1 else min(n + 1, n // per_block + 2)
+        seg_end = np.empty(n_seg_max, dtype=np.int64)
+        seg_val = np.empty((2, n_seg_max, 3))  # bias, sigma
         m = mag if mag is not None else np.zeros((1, 3))
         squares = np.zeros(3)
-        p = self.params._vector()
         n_seg = k.run(gyr, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
         for name, off, size in _LAYOUT:
             st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
         st["covariance"] = P
         if n:
             st["q"] = out[-1].copy()
-        vals = seg_val[:n_seg]
-        segments = (seg_end[:n_seg].copy(), vals[:, :3].copy(), {"bias_sigma": vals[:, 3:].copy()})
+        ends, vals = seg_end[:n_seg], seg_val[:, :n_seg]
+        if n_seg_max > 2 * n_seg + 2:  # views would keep a mostly unused buffer alive (long intervals): copies
+            ends, vals = ends.copy(), vals.copy()
+        segments = (ends, vals[0], {"bias_sigma": vals[1]})
         return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
 
 

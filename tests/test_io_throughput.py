@@ -198,3 +198,39 @@ def test_the_attitude_columns_check_and_rescale_extreme_quaternions_as_as_euler_
     with pytest.raises(ValueError, match="q"):
         attitude_columns([0.0], [[np.nan, 0.0, 0.0, 1.0]])
     assert list(attitude_columns([0.0], [[1.0, 0, 0, 0]], OutputSpec(euler=False))) == ["t", "qw", "qx", "qy", "qz"]
+
+
+def test_a_pooled_array_is_handed_out_again_only_once_nothing_refers_to_it():
+    from strapdown.io._blocks import Blocks
+
+    pool = Blocks(limit=2)
+    a = pool.take((3, 5), np.float64)
+    b = pool.take((3, 5), np.float64)
+    assert a is not b and not np.shares_memory(a, b)
+    column = a[1]  # a writer holding one column of a block holds the block
+    del a
+    c = pool.take((3, 5), np.float64)
+    assert not np.shares_memory(c, column) and not np.shares_memory(c, b)
+    del column
+    assert np.shares_memory(pool.take((3, 5), np.float64), pool._arrays[0])  # free again: reused
+    assert pool.take((3, 5), np.float32).dtype == np.float32 and pool.take((2,), np.float64).shape == (2,)
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "csv", "h5", "mat"])
+def test_many_small_chunks_write_what_one_call_of_the_library_gives(tmp_path, log, fmt):
+    """Output memory is reused between chunks (and the MATLAB writer keeps every chunk until the end): no row may
+    change after it was handed to a writer."""
+    from strapdown import as_euler, integrate
+
+    table = read_table(integrate_file(log, tmp_path / f"out.{fmt}", chunk_rows=61).output)
+    data = read_table(log)
+    t = data["t"]
+    q = integrate(np.column_stack([data["gx"], data["gy"], data["gz"]])[:-1], t=t)
+    got = np.column_stack([table[n] for n in ("qw", "qx", "qy", "qz")])
+    angles = np.column_stack([table[n] for n in ("yaw_deg", "pitch_deg", "roll_deg")])
+    np.testing.assert_allclose(table["t"], t - t[0], rtol=0, atol=1e-12)
+    # one call and chunks of 61 rows associate the products differently: equal to rounding, not bit for bit
+    assert np.max(np.abs(np.abs(np.sum(got * q, axis=1)) - 1)) < 1e-12
+    expected = as_euler(q, "ZYX", degrees=True, yaw_range="positive")
+    wrapped = (angles - expected + 180.0) % 360.0 - 180.0
+    assert np.max(np.abs(wrapped)) < 1e-7

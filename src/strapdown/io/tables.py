@@ -334,10 +334,21 @@ def attitude_columns(
     >>> cols["rest"], cols["acc_rejected"], cols["mag_rejected"]
     (array([False,  True]), array([False, False]), array([False,  True]))
     """
+    return _attitude_columns(t, q, spec, bias, flags, bias_at_limit, check=check)
+
+
+def _attitude_columns(t, q, spec, bias=None, flags=None, bias_at_limit=None, *, check=True, t0=0.0, pool=None):
+    """:func:`attitude_columns` of the times ``t - t0``, the float columns in arrays from ``pool`` when given.
+
+    The file pipelines pass a :class:`strapdown.io._blocks.Blocks` pool, whose arrays come back once the writer
+    has released them, instead of fresh memory for every chunk.
+    """
     dtype = np.float32 if spec.float32 else np.float64
-    cols = {"t": np.array(t, dtype=np.float64)}
+    new = np.empty if pool is None else pool.take
+    t = np.asarray(t, dtype=np.float64)
+    cols = {"t": np.subtract(t, t0, out=new(t.shape, np.float64))}
     names = column_names("quat") + (column_names("euler", spec.angles) if spec.euler else [])
-    cols.update(zip(names, _attitude_block(q, spec, check, dtype), strict=True))
+    cols.update(zip(names, _attitude_block(q, spec, check, dtype, new), strict=True))
     if spec.bias and bias is not None:
         unit = "deg_s" if spec.angles.degrees else "rad_s"
         b = np.degrees(bias) if spec.angles.degrees else np.asarray(bias, dtype=np.float64)
@@ -352,8 +363,8 @@ def attitude_columns(
     return cols
 
 
-def _attitude_block(q, spec: OutputSpec, check: bool, dtype) -> np.ndarray:
-    """Quaternion and (with ``spec.euler``) Euler columns as the rows of one new C-ordered (4 or 7, N) array.
+def _attitude_block(q, spec: OutputSpec, check: bool, dtype, new=np.empty) -> np.ndarray:
+    """Quaternion and (with ``spec.euler``) Euler columns as the rows of a C-ordered (4 or 7, N) array from ``new``.
 
     One kernel pass (``_columns_numba``) reads each quaternion once, instead of ``as_euler`` and two transposing
     copies: the same values (the angles bit for bit as ``to_values("euler", q, spec.angles)``), rounded to
@@ -361,7 +372,7 @@ def _attitude_block(q, spec: OutputSpec, check: bool, dtype) -> np.ndarray:
     """
     q = np.ascontiguousarray(q, dtype=np.float64)
     qe = _v.rotations(q, "q", check=check)  # what as_euler would convert (after its check, rescaled rows)
-    out = np.empty((7 if spec.euler else 4, len(q)), dtype=dtype)
+    out = new((7 if spec.euler else 4, len(q)), dtype)
     if len(q):
         from ._columns_numba import quat_euler_columns
 

@@ -210,3 +210,59 @@ def test_auto_with_a_probe_gives_the_bits_of_one_thread(rng, monkeypatch):
     g = rng.standard_normal((n, 3))
     dt = rng.uniform(0.001, 0.01, n)  # per-step durations: the pieces slice them too
     assert integrate(g, dt).tobytes() == integrate(g, dt, threads=1).tobytes()
+
+
+@pytest.mark.parametrize("kind", [0, 1, 3])  # exact, first-order, cayley
+def test_interleaved_chains_give_the_bits_of_one_chain_at_a_time(kind, rng):
+    """The scan runs four blocks' chains in one loop (_local4) for speed: that reorders only independent
+    operations, so each block must come out as when it is chained alone (_local1), large steps included."""
+    from strapdown import _integrate_numba as k
+
+    n = 4 * 3000 + 3  # blocks of unequal length: the longer ones finish alone
+    g = rng.standard_normal((n, 3)) * 0.3
+    g[[17, 5000, 9001]] = [40.0, -30.0, 25.0]  # steps past the series' limit, taken with sin and cos
+    h = np.array([0.01])
+    bounds = np.array([0, n // 4, n // 2, 3 * n // 4, n])
+    assert len(set(np.diff(bounds))) == 2
+    chain_norm = k.NORM_EXACT if kind == k.KIND_FIRST else k.NORM_NONE
+    four, one = np.empty((n, 4)), np.empty((n, 4))
+    ends4, ends1 = np.empty((4, 4)), np.empty((4, 4))
+    k._local4(g, h, 0, 1.0, kind, chain_norm, bounds, 0, four, ends4)
+    for blk in range(4):
+        k._local1(g, h, 0, 1.0, kind, chain_norm, bounds, blk, one, ends1)
+    assert four.tobytes() == one.tobytes()
+    assert ends4.tobytes() == ends1.tobytes()
+
+
+def test_scan_bits_do_not_depend_on_how_the_blocks_are_shared(rng):
+    """Any number of parts (threads) gives the same bits: 1, 2, 3 and 8 parts through the serial build of a part."""
+    from strapdown import _integrate_numba as k
+
+    n = 3 * k.SCAN_TILE + 1000
+    g = rng.standard_normal((n, 3)) * 0.5
+    h = np.array([0.01])
+    results = []
+    for n_parts in (1, 2, 3, 8):
+        q = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
+        out = np.empty((n, 4))
+        prev_b, cur_b = np.zeros(k.SCAN_BLOCKS + 2, np.int64), np.zeros(k.SCAN_BLOCKS + 2, np.int64)
+        prev, cur = np.zeros((2 * k.SCAN_BLOCKS, 4)), np.zeros((2 * k.SCAN_BLOCKS, 4))
+        for start in range(0, n + k.SCAN_TILE, k.SCAN_TILE):
+            k._tile_record(start, min(start + k.SCAN_TILE, n), cur_b)
+            for part in reversed(range(n_parts)):  # any order: the parts are independent within a region
+                k._scan_part(g, h, 0, 1.0, k.KIND_EXACT, True, part, n_parts, prev_b, prev, cur_b, cur, out)
+            if cur_b[0] > 0:
+                k._scan_offsets(True, k.KIND_EXACT, q, cur_b, cur)
+            prev_b, cur_b, prev, cur = cur_b, prev_b, cur, prev
+        results.append(out)
+        assert q.tobytes() == out[-1].tobytes()  # the carried attitude is the last output, bit for bit
+    q0 = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
+    serial = np.empty((n, 4))
+    k.scan_serial(g, h, 0, 1.0, k.KIND_EXACT, True, q0.copy(), serial)
+    for out in results:
+        assert out.tobytes() == results[0].tobytes()
+    assert results[0].tobytes() == serial.tobytes()
+    # and it is the sequential loop to rounding (an independent computation)
+    seq = np.empty((1, n, 4))
+    k.sequential(g[None], h, 0, 1.0, k.KIND_EXACT, k.NORM_NONE, 1, 0, q0[None].copy(), seq)
+    assert (1 - np.abs(np.sum(serial * seq[0], axis=-1))).max() < 1e-12

@@ -198,6 +198,24 @@ def _steps_minus_one(kind, m, ax, ay, az, u, cm):
             az[i] *= inv
 
 
+@nb.njit(cache=True, error_model="numpy")
+def _steps(g, lo, hi, h, hstep, scale, kind, ax, ay, az, u, cm):
+    """m(φ_k) - 1 of samples lo..hi into the buffers (cm, ax, ay, az), ready for the chain.
+
+    The two passes above, then the rare large exact steps (u >= TAYLOR_LIMIT) recomputed with sin and cos, so
+    that the chain's loop has no branch (a branch there made the four interleaved chains of _local4 ten times
+    slower).
+    """
+    _half_angles(g, lo, hi, h, hstep, scale, ax, ay, az, u)
+    _steps_minus_one(kind, hi - lo, ax, ay, az, u, cm)
+    if kind == KIND_EXACT:
+        for i in range(hi - lo):
+            if u[i] >= TAYLOR_LIMIT:
+                k = lo + i
+                f = h[k * hstep] * scale
+                cm[i], ax[i], ay[i], az[i] = exp_half_minus_one(g[k, 0] * f, g[k, 1] * f, g[k, 2] * f)
+
+
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def renormalize(mode, w, x, y, z):
     """Scale to unit norm: exactly, or by the division-free series (3 - |q|²)/2 (nabbla part 9)."""
@@ -214,8 +232,8 @@ def _chain(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, norm_mode, norm_ev
     """out[k] = (w,x,y,z) ⊗ m(φ_lo) ⊗ ... ⊗ m(φ_k) for k in [lo, hi), renormalised every `norm_every` steps.
 
     `counter` is the number of steps since the last renormalisation; returns the last attitude and the counter.
-    Per block of samples: half angles into columns, the step quaternions in a vectorised pass, then the chain
-    q + q ⊗ (m - 1), which recomputes the rare large exact steps with sin and cos.
+    Per block of samples: the step quaternions into buffers (_steps: half angles into columns, a vectorised
+    pass, the rare large exact steps with sin and cos), then the chain q + q ⊗ (m - 1).
     """
     ax = np.empty(BLOCK)
     ay = np.empty(BLOCK)
@@ -225,16 +243,10 @@ def _chain(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, norm_mode, norm_ev
     c = counter
     for start in range(lo, hi, BLOCK):
         stop = min(start + BLOCK, hi)
-        _half_angles(g, start, stop, h, hstep, scale, ax, ay, az, u)
-        _steps_minus_one(kind, stop - start, ax, ay, az, u, cm)
+        _steps(g, start, stop, h, hstep, scale, kind, ax, ay, az, u, cm)
         for i in range(stop - start):
             k = start + i
-            if kind == KIND_EXACT and u[i] >= TAYLOR_LIMIT:  # a large step: sin and cos
-                f = h[k * hstep] * scale
-                dw, dx, dy, dz = exp_half_minus_one(g[k, 0] * f, g[k, 1] * f, g[k, 2] * f)
-            else:
-                dw, dx, dy, dz = cm[i], ax[i], ay[i], az[i]
-            w, x, y, z = advance(w, x, y, z, dw, dx, dy, dz)
+            w, x, y, z = advance(w, x, y, z, cm[i], ax[i], ay[i], az[i])
             c += 1
             if norm_mode != NORM_NONE and c >= norm_every:
                 w, x, y, z = renormalize(norm_mode, w, x, y, z)
@@ -293,57 +305,169 @@ def _scan_bounds(start, stop, bounds):
     return n_blocks
 
 
-@nb.njit(cache=True, error_model="numpy")
-def _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start_att):
-    """Phase 1, one block: its prefix products, block 0 from the incoming attitude q, the others from identity."""
-    if blk == 0:
-        w, x, y, z = q[0], q[1], q[2], q[3]
-    else:
-        w, x, y, z = 1.0, 0.0, 0.0, 0.0
-    tw, tx, ty, tz, _ = _chain(
-        g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], w, x, y, z, out, chain_norm, 16, 0
-    )
-    start_att[blk + 1, 0] = tw
-    start_att[blk + 1, 1] = tx
-    start_att[blk + 1, 2] = ty
-    start_att[blk + 1, 3] = tz
-
-
 @nb.njit(cache=True, inline="always", error_model="numpy")
-def _rotate_row(sw, sx, sy, sz, rows, k, unit, fix_mode):
-    """rows[k] ← s ⊗ rows[k], normalised with `unit`."""
-    rw, rx, ry, rz = qmul(sw, sx, sy, sz, rows[k, 0], rows[k, 1], rows[k, 2], rows[k, 3])
-    if unit:
-        rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
-    rows[k, 0] = rw
-    rows[k, 1] = rx
-    rows[k, 2] = ry
-    rows[k, 3] = rz
+def _store(out, k, w, x, y, z):
+    out[k, 0] = w
+    out[k, 1] = x
+    out[k, 2] = y
+    out[k, 3] = z
 
 
 @nb.njit(cache=True, error_model="numpy")
-def _scan_offsets(start_att, n_blocks, unit, fix_mode):
-    """Phase 2: start_att[b] ← the attitude at the end of block b-1 (block 0's end is already absolute)."""
-    for blk in range(2, n_blocks):
-        p = start_att[blk - 1]
-        _rotate_row(p[0], p[1], p[2], p[3], start_att, blk, unit, fix_mode)
+def _local1(g, h, hstep, scale, kind, chain_norm, bounds, blk, out, ends):
+    """Phase 1, one block: its prefix products from the identity into out, its last one into ends[blk]."""
+    w, x, y, z, _ = _chain(
+        g, h, hstep, scale, kind, bounds[blk], bounds[blk + 1], 1.0, 0.0, 0.0, 0.0, out, chain_norm, 16, 0
+    )
+    _store(ends, blk, w, x, y, z)
 
 
 @nb.njit(cache=True, error_model="numpy")
-def _scan_rotate(bounds, blk, unit, fix_mode, start_att, out):
-    """Phase 3, one block: rotate it by its start attitude (block 0 by the identity), normalising with `unit`.
+def _local4(g, h, hstep, scale, kind, chain_norm, bounds, blk, out, ends):
+    """Phase 1 for blocks blk..blk+3 at once: four independent chains interleaved in one loop.
 
-    Block 0 is already absolute: without `unit` there is nothing to do; with it, the product by the identity
-    changes no value (finite inputs) and the outputs are only normalised.
+    One chain is latency-bound: each step's product waits for the last, while the core could issue the
+    products of four chains in that time (measured: 16 % less time per sample in the caches).  Every chain
+    does exactly what :func:`_local1` does (the same steps, products and renormalisation counter from 0), so
+    the results are bit-identical to it; only the order in which the processor sees independent operations
+    changes.  The chains run together over the shortest block's length (block lengths differ by at most one);
+    each then finishes alone in _chain.
     """
-    if blk == 0 and not unit:
+    ax = np.empty((4, BLOCK))
+    ay = np.empty((4, BLOCK))
+    az = np.empty((4, BLOCK))
+    u = np.empty((4, BLOCK))
+    cm = np.empty((4, BLOCK))
+    w0, x0, y0, z0 = 1.0, 0.0, 0.0, 0.0
+    w1, x1, y1, z1 = 1.0, 0.0, 0.0, 0.0
+    w2, x2, y2, z2 = 1.0, 0.0, 0.0, 0.0
+    w3, x3, y3, z3 = 1.0, 0.0, 0.0, 0.0
+    s0, s1, s2, s3, s4 = bounds[blk], bounds[blk + 1], bounds[blk + 2], bounds[blk + 3], bounds[blk + 4]
+    common = min(s1 - s0, s2 - s1, s3 - s2, s4 - s3)
+    c = 0
+    for off in range(0, common, BLOCK):
+        m = min(BLOCK, common - off)
+        for j in range(4):
+            lo = bounds[blk + j] + off
+            _steps(g, lo, lo + m, h, hstep, scale, kind, ax[j], ay[j], az[j], u[j], cm[j])
+        for i in range(m):
+            w0, x0, y0, z0 = advance(w0, x0, y0, z0, cm[0, i], ax[0, i], ay[0, i], az[0, i])
+            w1, x1, y1, z1 = advance(w1, x1, y1, z1, cm[1, i], ax[1, i], ay[1, i], az[1, i])
+            w2, x2, y2, z2 = advance(w2, x2, y2, z2, cm[2, i], ax[2, i], ay[2, i], az[2, i])
+            w3, x3, y3, z3 = advance(w3, x3, y3, z3, cm[3, i], ax[3, i], ay[3, i], az[3, i])
+            c += 1
+            if chain_norm != NORM_NONE and c >= 16:
+                w0, x0, y0, z0 = renormalize(chain_norm, w0, x0, y0, z0)
+                w1, x1, y1, z1 = renormalize(chain_norm, w1, x1, y1, z1)
+                w2, x2, y2, z2 = renormalize(chain_norm, w2, x2, y2, z2)
+                w3, x3, y3, z3 = renormalize(chain_norm, w3, x3, y3, z3)
+                c = 0
+            _store(out, s0 + off + i, w0, x0, y0, z0)
+            _store(out, s1 + off + i, w1, x1, y1, z1)
+            _store(out, s2 + off + i, w2, x2, y2, z2)
+            _store(out, s3 + off + i, w3, x3, y3, z3)
+    # the last sample of the longer blocks, alone
+    w0, x0, y0, z0, _ = _chain(g, h, hstep, scale, kind, s0 + common, s1, w0, x0, y0, z0, out, chain_norm, 16, c)
+    w1, x1, y1, z1, _ = _chain(g, h, hstep, scale, kind, s1 + common, s2, w1, x1, y1, z1, out, chain_norm, 16, c)
+    w2, x2, y2, z2, _ = _chain(g, h, hstep, scale, kind, s2 + common, s3, w2, x2, y2, z2, out, chain_norm, 16, c)
+    w3, x3, y3, z3, _ = _chain(g, h, hstep, scale, kind, s3 + common, s4, w3, x3, y3, z3, out, chain_norm, 16, c)
+    _store(ends, blk, w0, x0, y0, z0)
+    _store(ends, blk + 1, w1, x1, y1, z1)
+    _store(ends, blk + 2, w2, x2, y2, z2)
+    _store(ends, blk + 3, w3, x3, y3, z3)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _rotate_rows(s, out, lo, hi, unit, fix_mode):
+    """Phase 3 of one block: out[k] ← s ⊗ out[k] for k in [lo, hi), normalised with `unit`.
+
+    The rows are indexed as unsigned offsets into the flat array: numba then emits no test for negative
+    indices, and LLVM vectorises the loop (measured 2.4 against 5.3 ns a row, the same bits).
+    """
+    sw, sx, sy, sz = s[0], s[1], s[2], s[3]
+    flat = out.reshape(-1)
+    one = np.uint64(1)
+    for k in range(np.uint64(lo), np.uint64(hi)):
+        j = np.uint64(4) * k
+        rw, rx, ry, rz = qmul(sw, sx, sy, sz, flat[j], flat[j + one], flat[j + 2 * one], flat[j + 3 * one])
+        if unit:
+            rw, rx, ry, rz = renormalize(fix_mode, rw, rx, ry, rz)
+        flat[j] = rw
+        flat[j + one] = rx
+        flat[j + 2 * one] = ry
+        flat[j + 3 * one] = rz
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _scan_part(g, h, hstep, scale, kind, unit, part, n_parts, prev_b, prev, cur_b, cur, out):
+    """One thread's share of one parallel region: phase 3 of the previous tile, then phase 1 of this one.
+
+    Of each tile, part p of n_parts takes the contiguous run of blocks [p·n/n_parts, (p+1)·n/n_parts): the same
+    blocks in both phases, so a block's output is still in that core's cache when it is rotated.  (prev_b,
+    prev) and (cur_b, cur) are tile records (_tile_record); a record with 0 blocks is skipped.  Phase 1 runs
+    four blocks at a time interleaved (_local4).
+    """
+    fix_mode, chain_norm = _scan_modes(kind, unit)
+    n_prev = prev_b[0]
+    if n_prev > 0:
+        bounds = prev_b[1:]
+        for blk in range(part * n_prev // n_parts, (part + 1) * n_prev // n_parts):
+            _rotate_rows(prev[SCAN_BLOCKS + blk], out, bounds[blk], bounds[blk + 1], unit, fix_mode)
+    n_cur = cur_b[0]
+    if n_cur > 0:
+        bounds = cur_b[1:]
+        ends = cur[:SCAN_BLOCKS]
+        blk = part * n_cur // n_parts
+        hi = (part + 1) * n_cur // n_parts
+        while hi - blk >= 4:
+            _local4(g, h, hstep, scale, kind, chain_norm, bounds, blk, out, ends)
+            blk += 4
+        while blk < hi:
+            _local1(g, h, hstep, scale, kind, chain_norm, bounds, blk, out, ends)
+            blk += 1
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _scan_offsets(unit, kind, q, rec_b, rec):
+    """Phase 2 of one tile, between regions: its blocks' start attitudes from q, q advanced to the tile's end.
+
+    (rec_b, rec) is the tile's record (_tile_record): the block end attitudes are rec[:SCAN_BLOCKS] (phase 1),
+    the start attitudes written here rec[SCAN_BLOCKS:].  Block b starts at
+    q ⊗ end_0 ⊗ ... ⊗ end_{b-1}; q then becomes the tile's last output as phase 3 will compute it, bit for bit
+    (the same product and normalisation as _rotate_rows), so the next tile's start does not wait for phase 3.
+    """
+    fix_mode, _ = _scan_modes(kind, unit)
+    n_blocks = rec_b[0]
+    starts = rec[SCAN_BLOCKS:]
+    ends = rec[:SCAN_BLOCKS]
+    _store(starts, 0, q[0], q[1], q[2], q[3])
+    for blk in range(1, n_blocks):
+        p = starts[blk - 1]
+        w, x, y, z = qmul(
+            p[0], p[1], p[2], p[3], ends[blk - 1, 0], ends[blk - 1, 1], ends[blk - 1, 2], ends[blk - 1, 3]
+        )
+        if unit:
+            w, x, y, z = renormalize(fix_mode, w, x, y, z)
+        _store(starts, blk, w, x, y, z)
+    p = starts[n_blocks - 1]
+    e = ends[n_blocks - 1]
+    w, x, y, z = qmul(p[0], p[1], p[2], p[3], e[0], e[1], e[2], e[3])
+    if unit:
+        w, x, y, z = renormalize(fix_mode, w, x, y, z)
+    q[0], q[1], q[2], q[3] = w, x, y, z
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _tile_record(start, stop, rec_b):
+    """The integer part of a tile record for samples [start, stop): number of blocks (0: empty), block edges.
+
+    rec_b[0] is the number of blocks and rec_b[1:] their edges.  The record's float part, (2 SCAN_BLOCKS, 4),
+    holds the blocks' end attitudes (phase 1) and then their start attitudes (phase 2).
+    """
+    if stop <= start:
+        rec_b[0] = 0
         return
-    if blk == 0:
-        sw, sx, sy, sz = 1.0, 0.0, 0.0, 0.0
-    else:
-        sw, sx, sy, sz = start_att[blk, 0], start_att[blk, 1], start_att[blk, 2], start_att[blk, 3]
-    for k in range(bounds[blk], bounds[blk + 1]):
-        _rotate_row(sw, sx, sy, sz, out, k, unit, fix_mode)
+    rec_b[0] = _scan_bounds(start, stop, rec_b[1:])
 
 
 @nb.njit(cache=True, inline="always")
@@ -362,31 +486,31 @@ def _scan_modes(kind, unit):
 
 
 @nb.njit(cache=True, parallel=True, nogil=True, error_model="numpy")
-def scan(g, h, hstep, scale, kind, unit, q, out):
+def scan(g, h, hstep, scale, kind, unit, q, out, n_parts):
     """Parallel prefix product of the step quaternions of one body: out[k] = q ⊗ m(φ_0) ⊗ ... ⊗ m(φ_k).
 
     The samples are processed tile by tile, so that a tile's output is still in the cores' caches when it is
     visited the second time.  Each tile is cut into SCAN_BLOCKS blocks (fewer for short tiles), which the
-    threads share out: block 0 continues from the incoming attitude, every other block starts from the
-    identity (phase 1); the block end attitudes are chained (phase 2), and each later block is rotated by the
-    attitude at its start (quaternion products are associative, phase 3).  The blocks do not depend on the
-    number of threads, so neither does the result: :func:`scan_serial` is the same arithmetic on one thread.
-    With `unit` the outputs are normalised: the direction is the sequential loop's, only rounding differs.
-    Otherwise they are the raw products.  q is the incoming attitude and is updated to the last one.
+    n_parts threads share out: every block's prefix products start from the identity (phase 1); the block end
+    attitudes are chained from the attitude at the tile's start (phase 2, on this thread) and each block is
+    rotated by the attitude at its start (quaternion products are associative, phase 3).  Phase 3 of a tile
+    and phase 1 of the next run in the same parallel region, so a tile costs one wake-up of the threads, not
+    two.  The blocks do not depend on the number of threads, so neither does the result: :func:`scan_serial`
+    is the same arithmetic on one thread.  With `unit` the outputs are normalised: the direction is the
+    sequential loop's, only rounding differs.  Otherwise they are the raw products.  q is the incoming
+    attitude and is updated to the last one.
     """
-    fix_mode, chain_norm = _scan_modes(kind, unit)
-    start_att = np.empty((SCAN_BLOCKS + 1, 4))  # attitude at the start of each block (row 0 unused)
-    bounds = np.empty(SCAN_BLOCKS + 1, dtype=np.int64)
-    for start in range(0, g.shape[0], SCAN_TILE):
-        stop = min(start + SCAN_TILE, g.shape[0])
-        n_blocks = _scan_bounds(start, stop, bounds)
-        for blk in nb.prange(n_blocks):
-            _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start_att)
-        _scan_offsets(start_att, n_blocks, unit, fix_mode)
-        for blk in nb.prange(n_blocks):
-            _scan_rotate(bounds, blk, unit, fix_mode, start_att, out)
-        for i in range(4):
-            q[i] = out[stop - 1, i]
+    n = g.shape[0]
+    prev_b, cur_b = np.zeros(SCAN_BLOCKS + 2, dtype=np.int64), np.zeros(SCAN_BLOCKS + 2, dtype=np.int64)
+    prev, cur = np.zeros((2 * SCAN_BLOCKS, 4)), np.zeros((2 * SCAN_BLOCKS, 4))
+    for start in range(0, n + SCAN_TILE, SCAN_TILE):  # one region more than tiles: the last one's phase 3
+        _tile_record(start, min(start + SCAN_TILE, n), cur_b)
+        for part in nb.prange(n_parts):
+            _scan_part(g, h, hstep, scale, kind, unit, part, n_parts, prev_b, prev, cur_b, cur, out)
+        if cur_b[0] > 0:
+            _scan_offsets(unit, kind, q, cur_b, cur)
+        prev_b, cur_b = cur_b, prev_b
+        prev, cur = cur, prev
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -396,19 +520,16 @@ def scan_serial(g, h, hstep, scale, kind, unit, q, out):
     The loop is repeated rather than shared because numba compiles `prange` in parallel only inside a function
     built with ``parallel=True``, and one function cannot be cached in both builds.
     """
-    fix_mode, chain_norm = _scan_modes(kind, unit)
-    start_att = np.empty((SCAN_BLOCKS + 1, 4))
-    bounds = np.empty(SCAN_BLOCKS + 1, dtype=np.int64)
-    for start in range(0, g.shape[0], SCAN_TILE):
-        stop = min(start + SCAN_TILE, g.shape[0])
-        n_blocks = _scan_bounds(start, stop, bounds)
-        for blk in range(n_blocks):
-            _scan_local(g, h, hstep, scale, kind, chain_norm, bounds, blk, q, out, start_att)
-        _scan_offsets(start_att, n_blocks, unit, fix_mode)
-        for blk in range(n_blocks):
-            _scan_rotate(bounds, blk, unit, fix_mode, start_att, out)
-        for i in range(4):
-            q[i] = out[stop - 1, i]
+    n = g.shape[0]
+    prev_b, cur_b = np.zeros(SCAN_BLOCKS + 2, dtype=np.int64), np.zeros(SCAN_BLOCKS + 2, dtype=np.int64)
+    prev, cur = np.zeros((2 * SCAN_BLOCKS, 4)), np.zeros((2 * SCAN_BLOCKS, 4))
+    for start in range(0, n + SCAN_TILE, SCAN_TILE):
+        _tile_record(start, min(start + SCAN_TILE, n), cur_b)
+        _scan_part(g, h, hstep, scale, kind, unit, 0, 1, prev_b, prev, cur_b, cur, out)
+        if cur_b[0] > 0:
+            _scan_offsets(unit, kind, q, cur_b, cur)
+        prev_b, cur_b = cur_b, prev_b
+        prev, cur = cur, prev
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")

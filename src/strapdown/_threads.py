@@ -1,6 +1,6 @@
 """How many threads a parallel kernel gets: the policy that keeps threads from losing to one core (private).
 
-A parallel prefix scan synchronises its threads twice per tile of samples.  When the cores are busy with other
+A parallel prefix scan synchronises its threads once per tile of samples.  When the cores are busy with other
 processes, a thread that the scheduler has set aside holds every other thread at the next barrier for a whole
 time slice, and with numba's default OpenMP layer the waiting threads spin and so take that time from the busy
 processes too: on the 2-core machine ``integrate`` on 10^7 samples ran at 4.9 M samples/s on two threads under
@@ -68,7 +68,7 @@ __all__ = [
 
 ENV = "STRAPDOWN_THREADS"
 
-#: Samples below which one more thread cannot pay for its wake-up and the two barriers per tile (a wake-up
+#: Samples below which one more thread cannot pay for its wake-up and the barrier per tile (a wake-up
 #: on a sleeping OpenMP worker is tens of microseconds; 2^16 samples take about 1 ms on one core).
 MIN_SAMPLES_PER_THREAD = 1 << 16
 

@@ -648,9 +648,12 @@ class AttitudeIntegrator:
             q = st.q[0].copy()
 
             def part(threads, lo, hi):  # samples lo..hi, continuing from q; tile-aligned pieces: the same bits
-                kernel = k.scan if threads > 1 else k.scan_serial
                 hs = h[lo:hi] if hstep else h
-                kernel(g[0, lo:hi], hs, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0, lo:hi])
+                args = (g[0, lo:hi], hs, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0, lo:hi])
+                if threads > 1:
+                    k.scan(*args, threads)
+                else:
+                    k.scan_serial(*args)
 
             _threads.run(n, self.threads, part)
             st.q[0] = q

@@ -104,6 +104,7 @@ def rounds(args: list[str], log: Path, out: Path, scratch: Path) -> tuple[float,
         if code != 0:
             raise SystemExit(f"strapdown {' '.join(args)} failed with exit code {code}")
         best, peak = min(best, seconds), max(peak, rss)
+        load = os.getloadavg()[0]
         shape = layout(out)
         out.unlink()
         os.sync()
@@ -111,6 +112,9 @@ def rounds(args: list[str], log: Path, out: Path, scratch: Path) -> tuple[float,
         read, write = json.loads(subprocess.run(child, capture_output=True, text=True, check=True).stdout)
         reads.append(read)
         writes.append(write)
+        print(f"  round {i + 1}: CLI {seconds:.1f} s (peak RSS {rss / GIB:.3f} GiB, load {load:.1f}), floor read "
+              f"{read:.1f} s + write {write:.1f} s = {read + write:.1f} s: ratio {seconds / (read + write):.2f}",
+              flush=True)  # fmt: skip
     return best, peak, min(reads), min(writes), shape
 
 

@@ -234,3 +234,25 @@ def test_many_small_chunks_write_what_one_call_of_the_library_gives(tmp_path, lo
     expected = as_euler(q, "ZYX", degrees=True, yaw_range="positive")
     wrapped = (angles - expected + 180.0) % 360.0 - 180.0
     assert np.max(np.abs(wrapped)) < 1e-7
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "csv", "h5", "mat"])
+def test_a_writer_opens_the_claimed_empty_file_without_truncating_and_any_other_file_afresh(tmp_path, fmt):
+    """The empty temporary file of table_writer is written in place (truncating it made ext4 flush the whole
+    output when it was closed); a TableWriter given a file with content still replaces all of it."""
+    from strapdown.io.writers import TableWriter, _mode
+
+    empty, used = tmp_path / f"empty.{fmt}", tmp_path / f"used.{fmt}"
+    empty.touch()
+    used.write_bytes(b"x" * 1_000_000)  # longer than the table: no byte of it may remain
+    assert _mode(empty) == "r+b" and _mode(used) == "wb" and _mode(tmp_path / "absent") == "wb"
+    columns = {"t": np.arange(5.0), "x": np.arange(5.0) ** 2}
+    for path in (empty, used):
+        w = TableWriter(path, "hdf5" if fmt == "h5" else fmt, {"frame": "NED"}, background=False)
+        w.write(columns)
+        w.close()
+        table = read_table(path)
+        np.testing.assert_array_equal(table["x"], columns["x"])
+        assert read_metadata(path)["frame"] == "NED"
+    if fmt != "h5":  # an HDF5 file's layout depends on how it was opened; the others must be the same bytes
+        assert empty.read_bytes() == used.read_bytes()

@@ -85,3 +85,58 @@ class ReadAhead:
 class _Failed:
     def __init__(self, exc: BaseException):
         self.exc = exc
+
+
+class InOrder:
+    """Calls run by a thread of their own, each result handed to ``sink(key, result)`` in the order submitted.
+
+    At most ``depth`` calls wait or run at a time (:meth:`submit` hands results on until fewer do), so memory
+    stays bounded; :meth:`flush` hands on all of them.  The first error of a call is raised in the caller's
+    thread, by the :meth:`submit` or :meth:`flush` that reaches it.  Leaving the ``with`` block waits for the
+    thread: after an error the results still pending are dropped, never handed on.
+
+    Examples
+    --------
+    >>> from strapdown.io._ahead import InOrder
+    >>> got = []
+    >>> with InOrder(lambda key, value: got.append((key, value))) as later:
+    ...     for i in range(4):
+    ...         later.submit(i, pow, i, 2)
+    ...     later.flush()
+    >>> got
+    [(0, 0), (1, 1), (2, 4), (3, 9)]
+    """
+
+    def __init__(self, sink, depth: int = 2):
+        from concurrent.futures import ThreadPoolExecutor
+
+        self._sink = sink
+        self._depth = depth
+        self._pool = ThreadPoolExecutor(1, thread_name_prefix="strapdown-columns")
+        self._pending: list = []
+
+    def __enter__(self) -> InOrder:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        for _, future in self._pending:
+            future.cancel()
+        self._pending = []
+        self._pool.shutdown(wait=True)
+
+    def submit(self, key, fn, *args, **kwargs) -> None:
+        """Run ``fn(*args, **kwargs)`` in the thread; its result goes to ``sink(key, result)`` in turn."""
+        self._pending.append((key, self._pool.submit(fn, *args, **kwargs)))
+        while len(self._pending) > self._depth:
+            self._hand_on()
+
+    def flush(self) -> None:
+        """Hand on every pending result (waiting for them)."""
+        while self._pending:
+            self._hand_on()
+
+    def _hand_on(self) -> None:
+        key, future = self._pending[0]
+        result = future.result()  # raises the call's error, here
+        self._pending.pop(0)
+        self._sink(key, result)

@@ -86,7 +86,6 @@ def test_a_bad_row_late_in_a_file_fails_the_run_with_no_output_and_no_thread_lef
     assert not (tmp_path / "out.parquet").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.parquet"]  # no temporary either
     assert not reader_threads()
-    assert not [t for t in threading.enumerate() if t.name.startswith("strapdown-columns")]
 
 
 @pytest.mark.parametrize("fmt", ["parquet", "csv", "h5", "mat"])
@@ -257,24 +256,3 @@ def test_a_writer_opens_the_claimed_empty_file_without_truncating_and_any_other_
         assert read_metadata(path)["frame"] == "NED"
     if fmt != "h5":  # an HDF5 file's layout depends on how it was opened; the others must be the same bytes
         assert empty.read_bytes() == used.read_bytes()
-
-
-def test_in_order_hands_results_on_in_order_and_raises_a_call_error_in_the_callers_thread():
-    from strapdown.io._ahead import InOrder
-
-    got = []
-
-    def slow_then_fast(i):  # later calls finish sooner: the order must still be the submission order
-        threading.Event().wait(0.02 * (3 - i) if i < 3 else 0)
-        if i == 5:
-            raise ValueError("call 5 failed")
-        return i * i
-
-    with pytest.raises(ValueError, match="call 5 failed"):
-        with InOrder(lambda key, value: got.append((key, value)), depth=2) as later:
-            for i in range(8):
-                later.submit(f"k{i}", slow_then_fast, i)
-                assert len(later._pending) <= 2
-            later.flush()
-    assert got == [(f"k{i}", i * i) for i in range(5)]  # everything before the failure, nothing after it
-    assert not [t for t in threading.enumerate() if t.name.startswith("strapdown-columns")]

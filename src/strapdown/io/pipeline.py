@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..integrate import AttitudeIntegrator, SingularityError
-from ._ahead import InOrder, ReadAhead
+from ._ahead import ReadAhead
 from ._blocks import Blocks
 from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
@@ -324,16 +324,15 @@ def integrate_file(
         meta = {**_metadata("integrate", method=method or "default", input=input, rate_frame=rate_frame), **frames}
         run = _Segments(imu, output, out, gap_limit if on_gap != "error" else 0, on_gap, meta)
         # the next chunks are read and checked by a thread of their own while this one is integrated
-        # and the output columns of the last one are made by another (InOrder) while this one integrates the next
-        with run, ReadAhead(imu.chunks(chunk_rows)) as chunks, InOrder(run.write) as later:
+        with run, ReadAhead(imu.chunks(chunk_rows)) as chunks:
             pieces = run.pieces(_chunks_with_progress(chunks, imu.rows, progress))
             for seg, group in itertools.groupby(pieces, key=lambda piece: piece[0]):
                 turned = (_turned(chunk, axes) for _, chunk in group)
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
                 try:
                     for t, q in integrate_stream(turned, **opts):
-                        later.submit(seg, _attitude_columns, t, q, out, check=False, t0=run.t_first, pool=run.blocks)
-                    later.flush()
+                        columns = _attitude_columns(t, q, out, check=False, t0=run.t_first, pool=run.blocks)
+                        run.write(seg, columns)
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())

@@ -26,7 +26,6 @@ import numpy as np
 
 from ..integrate import AttitudeIntegrator, SingularityError
 from ._ahead import ReadAhead
-from ._blocks import Blocks
 from .conventions import GapSplitter, output_metadata, resolve_axes, time_metadata
 from .imu import ImuColumns, ImuFile
 from .readers import check_chunk_rows, format_of, open_source, require_rows
@@ -177,7 +176,6 @@ def integrate_stream(
     integ = None
     waiting = _RowTimes()  # row times still waiting for their attitude
     held = None  # the last sample so far: its step ends at the next row's time
-    blocks = Blocks()  # the samples of each step: memory reused once the integrator has let go of it
     for chunk in chunks:
         if not len(chunk):
             continue
@@ -189,10 +187,7 @@ def integrate_stream(
             g, ends = chunk.gyro[:-1], chunk.t[1:]
         else:
             waiting.push(chunk.t)
-            g = np.concatenate(
-                [held, chunk.gyro[:-1]], out=blocks.take(chunk.gyro.shape, np.result_type(held, chunk.gyro))
-            )
-            ends = chunk.t
+            g, ends = np.concatenate([held, chunk.gyro[:-1]]), chunk.t
         held = chunk.gyro[-1:]
         if input == "increment":
             q = integ.update(g)
@@ -331,7 +326,7 @@ def integrate_file(
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
                 try:
                     for t, q in integrate_stream(turned, **opts):
-                        columns = _attitude_columns(t, q, out, check=False, t0=run.t_first, pool=run.blocks)
+                        columns = _attitude_columns(t, q, out, check=False, t0=run.t_first)
                         run.write(seg, columns)
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
@@ -561,9 +556,7 @@ def estimate_file(
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
                 q = e.q if declination is None else to_true_north(e.q, declination, frame=axes.frame)
-                columns = _attitude_columns(
-                    chunk.t, q, out, e.bias, e.flags, at_limit, check=False, t0=run.t_first, pool=run.blocks
-                )
+                columns = _attitude_columns(chunk.t, q, out, e.bias, e.flags, at_limit, check=False, t0=run.t_first)
                 run.write(seg, columns)
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
@@ -598,7 +591,6 @@ class _Segments:
         self.rows = 0
         self.segment_of_estimator = -1
         self.current = None  # the chunk in flight, for messages
-        self.blocks = Blocks()  # output memory, reused once a writer has released it
         self._stack = ExitStack()
 
     def __enter__(self):
@@ -661,8 +653,7 @@ class _Segments:
         if self.on_gap == "restart":
             columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
         w = self._writer(seg)
-        # the columns are arrays nobody else holds (new, or from self.blocks, which hands an array out again only
-        # once the writer has released it): no copy needed
+        # attitude_columns made new arrays for every chunk: no copy needed
         w.write(columns, copy=False)
         self.rows += len(columns["t"])
 

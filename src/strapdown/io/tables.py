@@ -337,18 +337,12 @@ def attitude_columns(
     return _attitude_columns(t, q, spec, bias, flags, bias_at_limit, check=check)
 
 
-def _attitude_columns(t, q, spec, bias=None, flags=None, bias_at_limit=None, *, check=True, t0=0.0, pool=None):
-    """:func:`attitude_columns` of the times ``t - t0``, the float columns in arrays from ``pool`` when given.
-
-    The file pipelines pass a :class:`strapdown.io._blocks.Blocks` pool, whose arrays come back once the writer
-    has released them, instead of fresh memory for every chunk.
-    """
+def _attitude_columns(t, q, spec, bias=None, flags=None, bias_at_limit=None, *, check=True, t0=0.0):
+    """:func:`attitude_columns` of the times ``t - t0`` (the file pipelines' relative time, without a second copy)."""
     dtype = np.float32 if spec.float32 else np.float64
-    new = np.empty if pool is None else pool.take
-    t = np.asarray(t, dtype=np.float64)
-    cols = {"t": np.subtract(t, t0, out=new(t.shape, np.float64))}
+    cols = {"t": np.subtract(np.asarray(t, dtype=np.float64), t0)}
     names = column_names("quat") + (column_names("euler", spec.angles) if spec.euler else [])
-    cols.update(zip(names, _attitude_block(q, spec, check, dtype, new), strict=True))
+    cols.update(zip(names, _attitude_block(q, spec, check, dtype), strict=True))
     if spec.bias and bias is not None:
         unit = "deg_s" if spec.angles.degrees else "rad_s"
         b = np.degrees(bias) if spec.angles.degrees else np.asarray(bias, dtype=np.float64)

@@ -8,6 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 import strapdown as sd
+import strapdown.fusion  # sd.fusion below: a subpackage is an attribute once imported
 from strapdown.batch import Job, expand, integrate_split, run_batch
 from strapdown.io import ImuColumns, integrate_file, read_table, write_table
 

@@ -11,6 +11,12 @@ wheel cannot ship it).
 
     python -m strapdown.warmup            # integrate, the conversions, the estimators
     python -m strapdown.warmup --quiet
+    python -m strapdown.warmup estimators conversions    # what ``strapdown estimate`` uses
+    strapdown warmup                      # the same from the command line (the ``cli`` extra)
+
+``strapdown estimate`` needs the ``estimators`` and ``conversions`` tasks (the filter's kernels, the initial
+attitude's conversions and the Euler angles of the output); ``strapdown integrate`` needs ``integrate`` and
+``conversions``.
 """
 
 from __future__ import annotations
@@ -71,7 +77,7 @@ TASKS: list[tuple[str, Callable]] = [
 ]
 
 
-def warmup(dtypes=(np.float64, np.float32), quiet: bool = True) -> dict[str, float]:
+def warmup(dtypes=(np.float64, np.float32), quiet: bool = True, tasks=None) -> dict[str, float]:
     """Compile (or load from the cache) the kernels of the common entry points.
 
     Parameters
@@ -80,14 +86,22 @@ def warmup(dtypes=(np.float64, np.float32), quiet: bool = True) -> dict[str, flo
         The input types to compile for.
     quiet : bool
         Do not print each task's time.
+    tasks : sequence of str, optional
+        Names of :data:`TASKS` to run (default: all of them).
 
     Returns
     -------
     dict
         Seconds per task and dtype, e.g. ``{"integrate float64": 12.3, ...}``.
     """
+    known = dict(TASKS)
+    chosen = list(known) if tasks is None else list(tasks)
+    unknown = [t for t in chosen if t not in known]
+    if unknown:
+        raise ValueError(f"unknown warm-up task(s) {', '.join(map(repr, unknown))}; the tasks: {', '.join(known)}")
     times = {}
-    for name, task in TASKS:
+    for name in chosen:
+        task = known[name]
         for dtype in dtypes:
             t0 = time.perf_counter()
             task(dtype)
@@ -99,11 +113,16 @@ def warmup(dtypes=(np.float64, np.float32), quiet: bool = True) -> dict[str, flo
 
 
 def main(argv=None) -> int:
-    """Command-line entry: ``python -m strapdown.warmup [--quiet]``."""
+    """Command-line entry: ``python -m strapdown.warmup [TASK ...] [--quiet]``."""
     ap = argparse.ArgumentParser(prog="python -m strapdown.warmup", description=__doc__.split("\n\n")[0])
+    names = ", ".join(name for name, _ in TASKS)
+    ap.add_argument("tasks", nargs="*", metavar="TASK", help=f"some of {names} (default: all)")
     ap.add_argument("--quiet", action="store_true", help="print nothing")
     args = ap.parse_args(argv)
-    times = warmup(quiet=args.quiet)
+    try:
+        times = warmup(quiet=args.quiet, tasks=args.tasks or None)
+    except ValueError as exc:
+        ap.error(str(exc))
     if not args.quiet:
         print(f"{'total':24s} {sum(times.values()):7.2f} s")
     return 0

@@ -13,30 +13,18 @@ quality figures, saved and loaded as JSON (:func:`save`, :func:`load`).  A fit r
 determine it (:class:`InsufficientMotionError`, a ``ValueError``) and says which motion is missing.
 """
 
-from ._accelerometer import GRAVITY, accelerometer
-from ._allan import AllanAnalysis, allan
-from ._calibration import SENSORS, Calibration, load, save
-from ._declination import GeomagneticField, declination, field, to_true_north
-from ._gyroscope import gyroscope, rates_from_attitude
-from ._magnetometer import InsufficientMotionError, magnetometer
-from ._rests import find_rests
+from .._lazy import exports
 
-__all__ = [
-    "GRAVITY",
-    "SENSORS",
-    "AllanAnalysis",
-    "Calibration",
-    "GeomagneticField",
-    "InsufficientMotionError",
-    "accelerometer",
-    "allan",
-    "declination",
-    "field",
-    "find_rests",
-    "gyroscope",
-    "load",
-    "magnetometer",
-    "rates_from_attitude",
-    "save",
-    "to_true_north",
-]
+# imported when first used: the command line's estimate needs only _apply and to_true_north of this package
+__getattr__, __dir__, __all__ = exports(
+    __name__,
+    {
+        "_accelerometer": ("GRAVITY", "accelerometer"),
+        "_allan": ("AllanAnalysis", "allan"),
+        "_calibration": ("SENSORS", "Calibration", "load", "save"),
+        "_declination": ("GeomagneticField", "declination", "field", "to_true_north"),
+        "_gyroscope": ("gyroscope", "rates_from_attitude"),
+        "_magnetometer": ("InsufficientMotionError", "magnetometer"),
+        "_rests": ("find_rests",),
+    },
+)

@@ -28,46 +28,36 @@ Examples
 True
 """
 
-from .imu import ImuChunk, ImuColumns, ImuFile, read_imu
-from .pipeline import Report, convert_file, default_output, estimate_file, integrate_file, simulate_file
-from .readers import FORMATS, INPUT_FORMATS, Source, format_of, input_format, open_source, read_metadata, read_table
-from .reference import Reference, read_reference
-from .source import TimeOrigin
-from .tables import REPRESENTATIONS, Angles, OutputSpec, attitude_columns, column_names, from_values, to_values
-from .units import UNITS
-from .writers import TableWriter, table_writer, write_table
+from .._lazy import exports
 
-__all__ = [
-    "FORMATS",
-    "INPUT_FORMATS",
-    "REPRESENTATIONS",
-    "UNITS",
-    "Angles",
-    "ImuChunk",
-    "ImuColumns",
-    "ImuFile",
-    "OutputSpec",
-    "Reference",
-    "Report",
-    "Source",
-    "TableWriter",
-    "TimeOrigin",
-    "attitude_columns",
-    "column_names",
-    "convert_file",
-    "default_output",
-    "estimate_file",
-    "format_of",
-    "from_values",
-    "input_format",
-    "integrate_file",
-    "open_source",
-    "read_imu",
-    "read_metadata",
-    "read_reference",
-    "read_table",
-    "simulate_file",
-    "table_writer",
-    "to_values",
-    "write_table",
-]
+# The names below are imported from their modules when first used: ``strapdown.io.units`` or
+# ``strapdown.io.readers`` alone (the command line's option parsing) then does not load the pipeline, the
+# writers and every format.
+_HOME = {
+    "imu": ("ImuChunk", "ImuColumns", "ImuFile", "read_imu"),
+    "pipeline": ("Report", "convert_file", "default_output", "estimate_file", "integrate_file", "simulate_file"),
+    "readers": (
+        "FORMATS",
+        "INPUT_FORMATS",
+        "Source",
+        "format_of",
+        "input_format",
+        "open_source",
+        "read_metadata",
+        "read_table",
+    ),
+    "reference": ("Reference", "read_reference"),
+    "source": ("TimeOrigin",),
+    "tables": (
+        "REPRESENTATIONS",
+        "Angles",
+        "OutputSpec",
+        "attitude_columns",
+        "column_names",
+        "from_values",
+        "to_values",
+    ),
+    "units": ("UNITS",),
+    "writers": ("TableWriter", "table_writer", "write_table"),
+}
+__getattr__, __dir__, __all__ = exports(__name__, _HOME)

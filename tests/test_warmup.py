@@ -1,0 +1,39 @@
+"""The warm-up step (:mod:`strapdown.warmup`, ``strapdown warmup``): which tasks run, and bad task names."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from strapdown.warmup import TASKS, warmup
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "strapdown.cli", *args], capture_output=True, text=True, timeout=600)
+
+
+def test_only_the_tasks_asked_for_run_once_per_dtype():
+    times = warmup(dtypes=(np.float64, np.float32), tasks=["conversions"])
+    assert set(times) == {"conversions float64", "conversions float32"}
+    assert all(t >= 0 for t in times.values())
+
+
+def test_an_unknown_task_is_named_with_the_known_ones():
+    with pytest.raises(ValueError, match=r"'rotations'.*integrate, conversions, estimators"):
+        warmup(tasks=["conversions", "rotations"])
+
+
+def test_the_command_takes_the_tasks_of_the_module():
+    res = run("warmup", "--help")
+    assert res.returncode == 0, res.stderr
+    for name, _ in TASKS:
+        assert name in res.stdout
+    res = run("warmup", "rotations")
+    assert res.returncode == 2 and "'rotations' is not one of" in res.stderr
+
+
+def test_the_command_runs_a_task_quietly():
+    res = run("warmup", "conversions", "-q")
+    assert res.returncode == 0, res.stderr
+    assert res.stdout == ""

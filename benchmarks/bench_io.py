@@ -12,7 +12,8 @@
    read the log in the same batches (to numpy) plus to write a Parquet table of the output's rows, column
    types, row groups and compression (random values, as incompressible as attitudes); best of two.  The goal:
    streaming time <= 1.5 x the floor (issue 15).  The CLI's time includes starting Python and loading numba's
-   cached kernels (about a second), the floor's does not.
+   cached kernels (about a second), the floor's does not.  Every timed phase starts with no writes pending (the
+   previous output deleted, then ``os.sync()``): see :func:`rounds`.
 2c. The same with ``--float32`` (quaternion and angles as float32, time float64) against its own floor: the
    write of a table of those types.
 3. The reference, in the same run: ``strapdown.integrate(gyro, t=t)`` on the same samples held in memory (the
@@ -81,25 +82,53 @@ def run_cli(args: list[str]) -> tuple[float, int, int]:
     return seconds, usage.ru_maxrss * 1024, proc.returncode
 
 
-def rounds(args: list[str], log: Path, out: Path, scratch: Path) -> tuple[float, int, float, float]:
+def rounds(args: list[str], log: Path, out: Path, scratch: Path) -> tuple[float, int, float, float, dict]:
     """Two rounds of a CLI run and the floor of its output right after it, under the same conditions.
 
-    Returns the better CLI time, the larger peak RSS, and the better floor read and write (a busy machine's
-    noise is larger than the effects measured).  Each floor runs in a process of its own: a child's ru_maxrss
-    from ``wait4`` includes the parent's peak RSS when it starts (Linux keeps the pre-exec figure), and reading
-    the log grows a process by gigabytes (pyarrow's memory pool), which the next CLI run would report as its own.
+    Returns the better CLI time, the larger peak RSS, the better floor read and write (a busy machine's
+    noise is larger than the effects measured), and the output's layout (:func:`layout`, with its last
+    attitude).  Each floor runs in a process of its own: a child's ru_maxrss from ``wait4`` includes the
+    parent's peak RSS when it starts (Linux keeps the pre-exec figure), and reading the log grows a process by
+    gigabytes (pyarrow's memory pool), which the next CLI run would report as its own.
+
+    Every timed phase starts with no writes pending: the previous phase's output is deleted (its dirty pages
+    are dropped, not written) and ``os.sync()`` waits for whatever else is in flight.  Otherwise a phase pays
+    for the previous one's writeback: the disk here sustains about 100 MB/s once the kernel's dirty limit (a
+    few GiB) is reached, so a floor run right after a CLI run that left 5.9 GiB in the page cache took several
+    times as long as on its own, and the ratio said more about the order than about the code.
     """
     best, peak, reads, writes = np.inf, 0, [], []
     for i in range(2):
+        os.sync()
         seconds, rss, code = run_cli(args if i == 0 or "-q" in args else [*args, "-q"])
         if code != 0:
             raise SystemExit(f"strapdown {' '.join(args)} failed with exit code {code}")
         best, peak = min(best, seconds), max(peak, rss)
-        child = [sys.executable, __file__, "--floor", str(log), str(out), str(scratch)]
+        load = os.getloadavg()[0]
+        shape = layout(out)
+        out.unlink()
+        os.sync()
+        child = [sys.executable, __file__, "--floor", str(log), json.dumps(shape), str(scratch)]
         read, write = json.loads(subprocess.run(child, capture_output=True, text=True, check=True).stdout)
         reads.append(read)
         writes.append(write)
-    return best, peak, min(reads), min(writes)
+        print(f"  round {i + 1}: CLI {seconds:.1f} s (peak RSS {rss / GIB:.3f} GiB, load {load:.1f}), floor read "
+              f"{read:.1f} s + write {write:.1f} s = {read + write:.1f} s: ratio {seconds / (read + write):.2f}",
+              flush=True)  # fmt: skip
+    return best, peak, min(reads), min(writes), shape
+
+
+def layout(out: Path) -> dict:
+    """What the floor copies from an output file (rows, row groups, codec, columns and types), and its size."""
+    import pyarrow.parquet as pq
+
+    f = pq.ParquetFile(out)
+    meta = f.metadata
+    group = max((meta.row_group(i).num_rows for i in range(meta.num_row_groups)), default=1 << 18)
+    codec = meta.row_group(0).column(0).compression.lower() if meta.num_row_groups else "snappy"
+    columns = [(field.name, str(field.type)) for field in f.schema_arrow]
+    return {"rows": meta.num_rows, "group": group, "codec": codec, "columns": columns,
+            "bytes": out.stat().st_size, "last": last_attitude(out).tolist()}  # fmt: skip
 
 
 def load(path: Path, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -129,13 +158,13 @@ def last_attitude(path: Path) -> np.ndarray:
     return np.array([last.column(i)[-1].as_py() for i in range(4)])
 
 
-def floor(log: Path, out: Path, scratch: Path, chunk_rows: int) -> tuple[float, float]:
+def floor(log: Path, shape: dict, scratch: Path, chunk_rows: int) -> tuple[float, float]:
     """What pyarrow alone takes: reading the log and writing a table like the output (seconds for each).
 
     The read takes every column of the log in batches of ``chunk_rows`` rows and makes numpy arrays of them, as
     the CLI does.  The write produces a Parquet file of the output's rows, column names, types, compression and
-    row groups (taken from ``out``), filled with random values of the output's magnitude (as incompressible as
-    attitudes), written batch by batch from arrays made beforehand (not timed).
+    row groups (``shape``, from :func:`layout`), filled with random values of the output's magnitude (as
+    incompressible as attitudes), written batch by batch from arrays made beforehand (not timed).
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -149,11 +178,8 @@ def floor(log: Path, out: Path, scratch: Path, chunk_rows: int) -> tuple[float, 
             col.to_numpy()
     read = time.perf_counter() - t0
 
-    meta = pq.ParquetFile(out).metadata
-    schema = pq.read_schema(out)
-    rows = meta.num_rows
-    group = max((meta.row_group(i).num_rows for i in range(meta.num_row_groups)), default=chunk_rows)
-    codec = meta.row_group(0).column(0).compression.lower() if meta.num_row_groups else "snappy"
+    schema = pa.schema([(name, pa.type_for_alias(kind)) for name, kind in shape["columns"]])
+    rows, group, codec = shape["rows"], shape["group"], shape["codec"]
     rng = np.random.default_rng(1)
     batch = pa.record_batch(
         [pa.array(rng.uniform(-1, 1, group).astype(field.type.to_pandas_dtype())) for field in schema],
@@ -184,14 +210,15 @@ def main() -> None:
     ap.add_argument("--reference-n", type=float, default=None, help="samples integrated in memory (default: n)")
     ap.add_argument("--keep", action="store_true", help="keep the files")
     ap.add_argument("--json", default=None)
-    ap.add_argument("--floor", nargs=3, metavar=("LOG", "OUT", "SCRATCH"), help=argparse.SUPPRESS)
+    ap.add_argument("--floor", nargs=3, metavar=("LOG", "SHAPE", "SCRATCH"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.floor:  # one floor measure, in a process of its own (see rounds)
         import pyarrow.parquet as pq
 
         for col in next(pq.ParquetFile(args.floor[0], pre_buffer=False).iter_batches(batch_size=1)).columns:
             col.to_numpy()  # pyarrow's first use (to_numpy imports pandas), not timed
-        print(json.dumps(floor(*map(Path, args.floor), 1 << 18)))
+        log, shape, scratch = args.floor
+        print(json.dumps(floor(Path(log), json.loads(shape), Path(scratch), 1 << 18)))
         return
     n = int(args.n)
     n_ref = n if args.reference_n is None else int(args.reference_n)
@@ -208,6 +235,7 @@ def main() -> None:
         print(f"writing {n:.3g} samples to {log} ...", flush=True)
         results["write_seconds"] = write_log(log, n)
         results["log_bytes"] = log.stat().st_size
+        os.sync()  # the log on disk before anything is timed (see rounds)
         print(f"  {results['log_bytes'] / GIB:.2f} GiB in {results['write_seconds']:.1f} s", flush=True)
 
         print("strapdown integrate (streaming, subprocess) ...", flush=True)
@@ -219,22 +247,22 @@ def main() -> None:
                    for _ in range(2))  # fmt: skip
         results["cli_fixed_seconds"] = tiny
         print("strapdown integrate, then the pyarrow floor: read the log, write a table like the output ...")
-        seconds, rss, read, write = rounds(["integrate", str(log), "-o", str(out)], log, out, work / "floor.parquet")
-        results.update(stream_seconds=seconds, stream_peak_rss=rss, out_bytes=out.stat().st_size)
+        seconds, rss, read, write, shape = rounds(
+            ["integrate", str(log), "-o", str(out)], log, out, work / "floor.parquet"
+        )
+        results.update(stream_seconds=seconds, stream_peak_rss=rss, out_bytes=shape["bytes"])
         results["stream_samples_per_s"] = n / seconds
-        results["_last"] = last_attitude(out)
+        results["_last"] = np.array(shape["last"])
         results.update(floor_read_seconds=read, floor_write_seconds=write, floor_seconds=read + write)
         results["stream_over_floor"] = seconds / (read + write)
-        out.unlink()
         print("strapdown integrate --float32, then its floor ...", flush=True)
         out32 = work / "attitude32.parquet"
-        seconds32, rss32, read32, write32 = rounds(
+        seconds32, rss32, read32, write32, shape32 = rounds(
             ["integrate", str(log), "-o", str(out32), "--float32", "-q"], log, out32, work / "floor.parquet"
         )
-        results.update(stream32_seconds=seconds32, stream32_peak_rss=rss32, out32_bytes=out32.stat().st_size)
+        results.update(stream32_seconds=seconds32, stream32_peak_rss=rss32, out32_bytes=shape32["bytes"])
         results.update(floor32_read_seconds=read32, floor32_write_seconds=write32, floor32_seconds=read32 + write32)
         results["stream32_over_floor32"] = seconds32 / (read32 + write32)
-        out32.unlink()
 
         print(f"in-memory reference: strapdown.integrate on {n_ref:.3g} samples ...", flush=True)
         import strapdown as sd

@@ -55,7 +55,7 @@ def main() -> None:
                 best[name] = min(best.get(name, float("inf")), seconds)
                 line.append(f"{name} {seconds:.2f} s")
             pipeline.ReadAhead = shipped
-            read, write = bench_io.floor(log, out, out.with_name("ab-floor.parquet"), 1 << 18)
+            read, write = bench_io.floor(log, bench_io.layout(out), out.with_name("ab-floor.parquet"), 1 << 18)
             best["floor"] = min(best.get("floor", float("inf")), read + write)
             print(f"round {rep + 1}: " + ", ".join(line) + f"; floor {read:.2f} + {write:.2f} s; load "
                   f"{os.getloadavg()[0]:.1f}", flush=True)  # fmt: skip

@@ -142,3 +142,101 @@ def test_the_cli_float32_flag(tmp_path, log, still):
     assert res.returncode == 0, res.stderr
     assert "float32" in read_metadata(tmp_path / "e.csv")["precision"]
     assert "--float32" in strapdown_cli("integrate", "--help").stdout
+
+
+def awkward_quaternions():
+    """Random unnormalised quaternions and the cases where Euler angles are delicate, each also negated."""
+    from strapdown import from_euler
+
+    rng = np.random.default_rng(13)
+    special = [np.eye(4)[i] for i in range(4)]  # identity and 180° about each axis
+    for seq in ("ZYX", "ZXZ", "xyz", "zxz"):  # at and next to gimbal lock, both limits
+        for middle in (-90.0, 90.0, 0.0, 180.0, 89.9999999, 1e-9):
+            special.append(from_euler([30.0, middle, -170.0], seq, degrees=True))
+    q = np.concatenate([rng.normal(size=(600, 4)), np.array(special)])
+    return np.concatenate([q, -q])
+
+
+@pytest.mark.parametrize("float32", [False, True])
+@pytest.mark.parametrize("degrees", [True, False])
+def test_the_attitude_columns_are_as_euler_and_the_quaternion_rounded_to_the_output_type(degrees, float32):
+    """One kernel pass writes the quaternion and angle columns: they must be the library's own conversion's."""
+    from itertools import permutations, product
+
+    from strapdown import as_euler
+    from strapdown.io import Angles, attitude_columns
+
+    q = awkward_quaternions()
+    t = np.arange(len(q)) * 0.01
+    dtype = np.float32 if float32 else np.float64
+    tait_bryan = ["".join(p) for p in permutations("XYZ")]
+    proper = [a + b + a for a, b in product("XYZ", repeat=2) if a != b]
+    sequences = [s for s in tait_bryan + proper] + [s.lower() for s in tait_bryan + proper]
+    assert len(sequences) == 24
+    for seq, yaw_range in product(sequences, (None, "signed", "positive")):
+        angles = Angles(seq, degrees=degrees, yaw_range=yaw_range)
+        cols = attitude_columns(t, q, OutputSpec(angles=angles, float32=float32), check=False)
+        expected = as_euler(q, seq, degrees, yaw_range=angles.range).astype(dtype)
+        got = np.column_stack(list(cols.values())[5:])
+        assert got.dtype == dtype and np.array_equal(got, expected), (seq, yaw_range)
+        assert np.array_equal(np.column_stack(list(cols.values())[1:5]), q.astype(dtype))
+        assert cols["t"].dtype == np.float64 and np.array_equal(cols["t"], t)
+
+
+def test_the_attitude_columns_check_and_rescale_extreme_quaternions_as_as_euler_does():
+    from strapdown import as_euler
+    from strapdown.io import attitude_columns
+
+    q = awkward_quaternions()[:50]
+    scaled = q * np.where(np.arange(50) % 2, 1e200, 1e-300)[:, None]  # products of components overflow
+    cols = attitude_columns(np.zeros(50), scaled)
+    got = np.column_stack([cols["yaw_deg"], cols["pitch_deg"], cols["roll_deg"]])
+    assert np.array_equal(got, as_euler(scaled, "ZYX", True, yaw_range="positive"))
+    # the rotations of q (scaling by 1e200 rounds each component: the angles move by a few ulp)
+    assert np.allclose(got, as_euler(q, "ZYX", True, yaw_range="positive"), rtol=0, atol=1e-9)
+    assert np.array_equal(cols["qw"], scaled[:, 0])  # the quaternion as given
+    with pytest.raises(ValueError, match="q"):
+        attitude_columns([0.0], [[np.nan, 0.0, 0.0, 1.0]])
+    assert list(attitude_columns([0.0], [[1.0, 0, 0, 0]], OutputSpec(euler=False))) == ["t", "qw", "qx", "qy", "qz"]
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "csv", "h5", "mat"])
+def test_many_small_chunks_write_what_one_call_of_the_library_gives(tmp_path, log, fmt):
+    """The columns of each chunk are handed to the writer without a copy (and the MATLAB writer keeps every chunk
+    until the end): no row may change after it was handed on."""
+    from strapdown import as_euler, integrate
+
+    table = read_table(integrate_file(log, tmp_path / f"out.{fmt}", chunk_rows=61).output)
+    data = read_table(log)
+    t = data["t"]
+    q = integrate(np.column_stack([data["gx"], data["gy"], data["gz"]])[:-1], t=t)
+    got = np.column_stack([table[n] for n in ("qw", "qx", "qy", "qz")])
+    angles = np.column_stack([table[n] for n in ("yaw_deg", "pitch_deg", "roll_deg")])
+    np.testing.assert_allclose(table["t"], t - t[0], rtol=0, atol=1e-12)
+    # one call and chunks of 61 rows associate the products differently: equal to rounding, not bit for bit
+    assert np.max(np.abs(np.abs(np.sum(got * q, axis=1)) - 1)) < 1e-12
+    expected = as_euler(q, "ZYX", degrees=True, yaw_range="positive")
+    wrapped = (angles - expected + 180.0) % 360.0 - 180.0
+    assert np.max(np.abs(wrapped)) < 1e-7
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "csv", "h5", "mat"])
+def test_a_writer_opens_the_claimed_empty_file_without_truncating_and_any_other_file_afresh(tmp_path, fmt):
+    """The empty temporary file of table_writer is written in place (truncating it made ext4 flush the whole
+    output when it was closed); a TableWriter given a file with content still replaces all of it."""
+    from strapdown.io.writers import TableWriter, _mode
+
+    empty, used = tmp_path / f"empty.{fmt}", tmp_path / f"used.{fmt}"
+    empty.touch()
+    used.write_bytes(b"x" * 1_000_000)  # longer than the table: no byte of it may remain
+    assert _mode(empty) == "r+b" and _mode(used) == "wb" and _mode(tmp_path / "absent") == "wb"
+    columns = {"t": np.arange(5.0), "x": np.arange(5.0) ** 2}
+    for path in (empty, used):
+        w = TableWriter(path, "hdf5" if fmt == "h5" else fmt, {"frame": "NED"}, background=False)
+        w.write(columns)
+        w.close()
+        table = read_table(path)
+        np.testing.assert_array_equal(table["x"], columns["x"])
+        assert read_metadata(path)["frame"] == "NED"
+    if fmt != "h5":  # an HDF5 file's layout depends on how it was opened; the others must be the same bytes
+        assert empty.read_bytes() == used.read_bytes()

@@ -61,6 +61,24 @@ def _parse_seq(seq) -> tuple[bool, tuple[int, int, int]]:
     return intrinsic, (_AXIS[low[0]], _AXIS[low[1]], _AXIS[low[2]])
 
 
+def _kernel_args(seq: str, degrees: bool) -> tuple:
+    """The arguments ``as_euler_rows`` takes for a sequence and unit (also those of the file writer's kernel).
+
+    Returns (i, j, k, proper, sign, intrinsic, scale, half, full): the extrinsic axes (k the remaining one for a
+    proper sequence), the parity sign of (i, j, k), the unit scale, and 180° and 360° (or π and 2π) in float64.
+    """
+    intrinsic, axes = _parse_seq(seq)
+    i, j, k = axes[::-1] if intrinsic else axes
+    proper = i == k
+    if proper:
+        k = 3 - i - j
+    sign = 1.0 if (j - i) % 3 == 1 else -1.0  # parity of the permutation (i, j, k)
+    scale = 180.0 / np.pi if degrees else 1.0
+    full = 360.0 if degrees else 2 * np.pi
+    half = 180.0 if degrees else np.pi
+    return i, j, k, proper, sign, intrinsic, scale, half, full
+
+
 def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool = True) -> np.ndarray:
     """Attitude quaternions from Euler angles.
 
@@ -166,23 +184,16 @@ def as_euler(
     array([320.,  90.,   0.])
     """
     _v.choice(yaw_range, "yaw_range", ("signed", "positive"))
-    intrinsic, axes = _parse_seq(seq)
+    i, j, k, proper, sign, intrinsic, scale, half, full = _kernel_args(seq, degrees)
     q = _v.rotations(q, "q", check=check)
-    i, j, k = axes[::-1] if intrinsic else axes
-    proper = i == k
-    if proper:
-        k = 3 - i - j
-    sign = 1.0 if (j - i) % 3 == 1 else -1.0  # parity of the permutation (i, j, k)
     shape = q.shape[:-1]
     rows = np.ascontiguousarray(q.reshape(-1, 4))
     out = np.empty((rows.shape[0], 3), dtype=q.dtype)
-    scale = 180.0 / np.pi if degrees else 1.0
     from ._euler_numba import as_euler_rows
 
-    full = out.dtype.type(360.0 if degrees else 2 * np.pi)
-    half = out.dtype.type(180.0 if degrees else np.pi)
+    full, half = float(out.dtype.type(full)), float(out.dtype.type(half))  # 2π and π as the output holds them
     # the kernel also folds -180° (from the rounding to degrees or float32) to +180°, in the output's type
-    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, float(half), float(full), out)
+    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, half, full, out)
     if yaw_range == "positive":
         angle = out[:, 0 if intrinsic else 2]
         angle[angle < 0] += full

@@ -34,7 +34,7 @@ from .tables import (
     REPRESENTATIONS,
     Angles,
     OutputSpec,
-    attitude_columns,
+    _attitude_columns,
     column_names,
     flag_bits,
     from_values,
@@ -210,7 +210,8 @@ class _RowTimes:
         self.parts: list[np.ndarray] = []
 
     def push(self, t: np.ndarray) -> None:
-        self.parts.append(t)
+        # an empty remainder (every attitude so far out) is dropped: take() then returns a view, not a copy
+        self.parts = [p for p in self.parts if len(p)] + [t]
 
     def take(self, m: int) -> np.ndarray:
         everything = np.concatenate(self.parts) if len(self.parts) > 1 else self.parts[0]
@@ -325,7 +326,8 @@ def integrate_file(
                 opts = {"method": method, "input": input, "rate_frame": rate_frame, "q0": q0, "rate": imu.rate}
                 try:
                     for t, q in integrate_stream(turned, **opts):
-                        run.write(seg, attitude_columns(t - run.t_first, q, out, check=False))
+                        columns = _attitude_columns(t, q, out, check=False, t0=run.t_first)
+                        run.write(seg, columns)
                 except (ValueError, SingularityError) as exc:  # the integrator's words name no file
                     raise ValueError(f"{path}: the integration failed on {_rows(imu, run.current)}: {exc}") from None
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
@@ -554,7 +556,8 @@ def estimate_file(
                         i = int(np.argmax(at_limit))
                         run.notes.append(_bias_warning(e.bias[i], limit, run.t(chunk)[i], imu.where(chunk.row + i)))
                 q = e.q if declination is None else to_true_north(e.q, declination, frame=axes.frame)
-                run.write(seg, attitude_columns(run.t(chunk), q, out, e.bias, e.flags, at_limit, check=False))
+                columns = _attitude_columns(chunk.t, q, out, e.bias, e.flags, at_limit, check=False, t0=run.t_first)
+                run.write(seg, columns)
         report = Report(_inputs(path)[0], run.outputs[0], run.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{estimator} {'9D' if use_mag else '6D'}, {axes.describe()}")
         report.notes.extend(run.notes)
@@ -650,7 +653,8 @@ class _Segments:
         if self.on_gap == "restart":
             columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
         w = self._writer(seg)
-        w.write(columns, copy=False)  # attitude_columns made new arrays for every chunk: no copy needed
+        # attitude_columns made new arrays for every chunk: no copy needed
+        w.write(columns, copy=False)
         self.rows += len(columns["t"])
 
 

@@ -16,9 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _validate as _v
 from ..cayley_klein import as_cayley_klein, from_cayley_klein
 from ..compressed import as_compressed, from_compressed
-from ..euler import _parse_seq, as_euler, from_euler
+from ..euler import _kernel_args, _parse_seq, as_euler, from_euler
 from ..matrix import as_matrix, from_matrix
 from ..rotvec import as_axis_angle, as_gibbs, as_rotvec, from_axis_angle, from_gibbs, from_rotvec
 
@@ -333,13 +334,15 @@ def attitude_columns(
     >>> cols["rest"], cols["acc_rejected"], cols["mag_rejected"]
     (array([False,  True]), array([False, False]), array([False,  True]))
     """
+    return _attitude_columns(t, q, spec, bias, flags, bias_at_limit, check=check)
+
+
+def _attitude_columns(t, q, spec, bias=None, flags=None, bias_at_limit=None, *, check=True, t0=0.0):
+    """:func:`attitude_columns` of the times ``t - t0`` (the file pipelines' relative time, without a second copy)."""
     dtype = np.float32 if spec.float32 else np.float64
-    q = np.asarray(q, dtype=np.float64)
-    cols = {"t": np.array(t, dtype=np.float64)}
-    cols.update(zip(column_names("quat"), _columns(q, dtype), strict=True))
-    if spec.euler:
-        euler = to_values("euler", q, spec.angles, check=check) if len(q) else np.zeros((0, 3))
-        cols.update(zip(column_names("euler", spec.angles), _columns(euler, dtype), strict=True))
+    cols = {"t": np.subtract(np.asarray(t, dtype=np.float64), t0)}
+    names = column_names("quat") + (column_names("euler", spec.angles) if spec.euler else [])
+    cols.update(zip(names, _attitude_block(q, spec, check, dtype), strict=True))
     if spec.bias and bias is not None:
         unit = "deg_s" if spec.angles.degrees else "rad_s"
         b = np.degrees(bias) if spec.angles.degrees else np.asarray(bias, dtype=np.float64)
@@ -352,6 +355,26 @@ def attitude_columns(
         cols["flags"] = f
         cols.update({name: (f & bit) != 0 for name, bit in bits.items()})
     return cols
+
+
+def _attitude_block(q, spec: OutputSpec, check: bool, dtype, new=np.empty) -> np.ndarray:
+    """Quaternion and (with ``spec.euler``) Euler columns as the rows of a C-ordered (4 or 7, N) array from ``new``.
+
+    One kernel pass (``_columns_numba``) reads each quaternion once, instead of ``as_euler`` and two transposing
+    copies: the same values (the angles bit for bit as ``to_values("euler", q, spec.angles)``), rounded to
+    ``dtype`` only on the store.
+    """
+    q = np.ascontiguousarray(q, dtype=np.float64)
+    qe = _v.rotations(q, "q", check=check)  # what as_euler would convert (after its check, rescaled rows)
+    out = new((7 if spec.euler else 4, len(q)), dtype)
+    if len(q):
+        from ._columns_numba import quat_euler_columns
+
+        i, j, k, proper, sign, intrinsic, scale, half, full = _kernel_args(spec.angles.seq, spec.angles.degrees)
+        positive = spec.angles.range == "positive"
+        qe = np.ascontiguousarray(qe)
+        quat_euler_columns(q, qe, spec.euler, i, j, k, proper, sign, intrinsic, scale, half, full, positive, out)
+    return out
 
 
 def _columns(values: np.ndarray, dtype) -> np.ndarray:

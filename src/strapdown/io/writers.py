@@ -37,6 +37,7 @@ class TableWriter:
         self.names: list[str] | None = None
         self.rows = 0
         self._sink = None
+        self._file = None  # the Parquet writer's output stream (pyarrow leaves a stream it was given open)
         self._parts: dict[str, list] = {}
         # Parquet: chunks are gathered into row groups of at least ROW_GROUP_ROWS (a one-row first chunk does
         # not make a one-row group) and, with `background`, encoded and written by a thread of their own while
@@ -72,7 +73,7 @@ class TableWriter:
 
     def _open(self, columns) -> None:
         if self.format == "csv":
-            self._sink = open(self.path, "wb")
+            self._sink = open(self.path, _mode(self.path))
             text = io.StringIO()
             text.write(csv_comments(self.metadata))
             csv.writer(text, lineterminator="\n").writerow(self.names)
@@ -82,14 +83,16 @@ class TableWriter:
             schema = _batch(columns).schema.with_metadata(self.metadata)
             # dictionaries pay for repeated values (flags), not for measurements: trying them costs time and memory
             small = [n for n, v in columns.items() if np.asarray(v).dtype.itemsize == 1]
-            self._sink = pq.ParquetWriter(str(self.path), schema, compression="snappy", use_dictionary=small or False)
+            pa = need("pyarrow", "writing Parquet files")
+            self._file = pa.OSFile(str(self.path), "a" if _mode(self.path) == "r+b" else "w")  # "a": no truncation
+            self._sink = pq.ParquetWriter(self._file, schema, compression="snappy", use_dictionary=small or False)
         elif self.format == "mat":
             # empty parts fix each column's type, so that a table without rows is still written whole
             self._parts = {n: [np.asarray(v)[:0]] for n, v in columns.items()}
         elif self.format == "hdf5":
             h5py = need("h5py", "writing HDF5 files")
             # through a guarded file object: a failed write (full disk) must not reach HDF5, which then crashed
-            self._raw = GuardedFile(self.path, "w+b")
+            self._raw = GuardedFile(self.path, "r+b" if _mode(self.path) == "r+b" else "w+b")
             self._sink = h5py.File(self._raw, "w", track_order=True)  # columns read back in order
             for key, value in self.metadata.items():
                 self._sink.attrs[key] = value
@@ -159,10 +162,12 @@ class TableWriter:
                 )
             # MATLAB stores a one-row column like a scalar: the list tells the reader which variables are columns
             data[COLUMNS_VARIABLE] = np.array(self.names, dtype=object)
-            with open(self.path, "wb") as f:
+            with open(self.path, _mode(self.path)) as f:
                 sio.savemat(f, data, oned_as="column")
         elif self._sink is not None:
             self._sink.close()
+        if self._file is not None:
+            self._file.close()
         if getattr(self, "_raw", None) is not None:
             self._raw.close()
             self._raw.check()
@@ -240,6 +245,20 @@ def csv_comments(metadata: Mapping[str, str] | None) -> str:
     return "".join(f"# {key}: {' '.join(str(value).split())}\n" for key, value in (metadata or {}).items())
 
 
+def _mode(path: Path) -> str:
+    """How to open a file for writing from its start: ``"r+b"`` when it exists and is empty, else ``"wb"``.
+
+    :func:`table_writer` writes into the empty temporary file that :func:`strapdown._files.atomic_path` claimed.
+    Opening it with truncation (``"wb"``, O_TRUNC) made ext4 flush the whole file to disk when it was closed
+    (its ``auto_da_alloc`` heuristic for files replaced by truncation): the close of a Parquet output took 0.23 s
+    for 0.6 GB and 0.9 s for 2.6 GB here, against 1-2 ms for the same file opened without truncation.
+    """
+    try:
+        return "r+b" if path.stat().st_size == 0 else "wb"
+    except FileNotFoundError:
+        return "wb"
+
+
 def _number(text: str):
     """A metadata value as a MATLAB number when float64 holds it exactly, else as text.
 
@@ -308,6 +327,8 @@ def table_writer(
             writer._stop_background()  # after an error in the block: no background write may still use the file
             if writer._sink is not None:  # an error inside the block: release the file before it is deleted
                 writer._sink.close()
+            if writer._file is not None:
+                writer._file.close()
             if getattr(writer, "_raw", None) is not None:
                 writer._raw.close()
 

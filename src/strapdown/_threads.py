@@ -22,8 +22,9 @@ pool is touched at all.
 4. A quick measure when the run queue says busy (auto mode only, :func:`run`): the run queue cannot tell
    whether more threads would still win, and on an oversubscribed machine they sometimes do (the scheduler
    shares time per thread), sometimes lose.  So a long call times its first :data:`PROBE_SAMPLES` samples
-   on the count above and the next ones on every core, and finishes on the faster; a verdict serves later
-   short calls for :data:`PROBE_VALID_S` seconds.  The worse setting costs at most one probe.
+   on the count above and the next ones on every core, and finishes on every core only if that was clearly
+   faster (:data:`PROBE_MARGIN`); a verdict serves later short calls for :data:`PROBE_VALID_S` seconds.  The
+   worse setting costs at most one probe.
 
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
 function of the size alone) and the threads only share out the blocks, so ``threads=1`` and ``threads=8``
@@ -56,6 +57,7 @@ from contextlib import contextmanager
 __all__ = [
     "ENV",
     "MIN_SAMPLES_PER_THREAD",
+    "PROBE_MARGIN",
     "PROBE_SAMPLES",
     "choose",
     "claim",
@@ -76,6 +78,11 @@ MIN_SAMPLES_PER_THREAD = 1 << 16
 PROBE_SAMPLES = 1 << 18
 #: Seconds a probe's verdict is reused by calls too short to probe (the chunks of a file pipeline).
 PROBE_VALID_S = 2.0
+#: More threads win the probe only when they took less than this fraction of the time of the run-queue's
+#: count: a probe is a few milliseconds, about one time slice, and on an oversubscribed machine the threads
+#: of a long call lose more at the barriers than a probe shows (2-core machine, two busy processes: a probe
+#: verdict of 2 threads, then 1.18x the time of one thread over 10^7 samples).
+PROBE_MARGIN = 0.8
 
 _verdict = [1, -math.inf]  # threads, and the clock time until which that verdict stands
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
@@ -222,10 +229,10 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
     With a setting (``threads=``, ``STRAPDOWN_THREADS``, a batch worker), or when the run queue shows every
     useful core free, this is one call with :func:`choose`'s count.  On a machine the run queue calls busy,
     auto mode measures instead of guessing: the first :data:`PROBE_SAMPLES` on :func:`choose`'s count (one
-    thread), the next on every core, and the rest on whichever took less time (the quick measure of the module
-    notes); the verdict serves later calls too short to probe for :data:`PROBE_VALID_S` seconds.  The pieces
-    start at multiples of PROBE_SAMPLES, a multiple of the scan's tile, so the result has the same bits as one
-    call, whatever the verdict.
+    thread), the next on every core, and the rest on every core only if those were clearly faster (the quick
+    measure of the module notes); the verdict serves later calls too short to probe for :data:`PROBE_VALID_S`
+    seconds.  The pieces start at multiples of PROBE_SAMPLES, a multiple of the scan's tile, so the result has
+    the same bits as one call, whatever the verdict.
 
     Parameters
     ----------
@@ -260,7 +267,8 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
             start = clock()
             part(t, lo, lo + PROBE_SAMPLES)
             times.append((clock() - start, t))
-    best = min(times)[1]
+    (t_few, few), (t_most, many) = times
+    best = many if t_most < PROBE_MARGIN * t_few else few
     with claim(best) as t:
         part(t, 2 * PROBE_SAMPLES, n)
     _verdict[:] = [best, clock() + PROBE_VALID_S]  # from the end of this call

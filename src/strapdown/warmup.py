@@ -9,14 +9,14 @@ points on a few samples in float64 and float32, so that every kernel they use is
 cache is specific to the CPU and to the installed source files, so it is made on the machine that uses it (a
 wheel cannot ship it).
 
-    python -m strapdown.warmup            # integrate, the conversions, the estimators
+    python -m strapdown.warmup            # integrate, the conversions, the estimators, the file columns
     python -m strapdown.warmup --quiet
-    python -m strapdown.warmup estimators conversions    # what ``strapdown estimate`` uses
+    python -m strapdown.warmup estimators conversions files    # what ``strapdown estimate`` uses
     strapdown warmup                      # the same from the command line (the ``cli`` extra)
 
-``strapdown estimate`` needs the ``estimators`` and ``conversions`` tasks (the filter's kernels, the initial
-attitude's conversions and the Euler angles of the output); ``strapdown integrate`` needs ``integrate`` and
-``conversions``.
+``strapdown estimate`` needs the ``estimators``, ``conversions`` and ``files`` tasks (the filter's kernels, the
+initial attitude's conversions, and the output's quaternion and Euler columns); ``strapdown integrate`` needs
+``integrate`` and ``files``.
 """
 
 from __future__ import annotations
@@ -69,11 +69,23 @@ def _estimators(dtype) -> None:
             continue
 
 
+def _files(dtype) -> None:
+    """The file commands' output columns (io.tables.attitude_columns' kernel), float64 and --float32 output."""
+    from .io.tables import OutputSpec, attitude_columns
+
+    if dtype != np.float64:  # the pipeline's attitudes are float64 whatever the file holds
+        return
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (8, 1))
+    for float32 in (False, True):
+        attitude_columns(np.arange(8.0), q, OutputSpec(float32=float32), check=False)
+
+
 #: (name, function of the dtype) run by :func:`warmup`.
 TASKS: list[tuple[str, Callable]] = [
     ("integrate", _integrate),
     ("conversions", _conversions),
     ("estimators", _estimators),
+    ("files", _files),
 ]
 
 

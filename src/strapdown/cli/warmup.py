@@ -16,13 +16,13 @@ def command(tasks, quiet):
     numba compiles each kernel at its first call and caches the machine code beside the installed package (or
     in NUMBA_CACHE_DIR): the first `strapdown estimate` after an install compiles for 15-25 s (2 busy cores), later
     ones load the cache.  Run this once after installing to move that wait here (all tasks: about a minute).
-    TASKS: integrate, conversions, estimators (default: all); `strapdown estimate` uses estimators and
-    conversions, `strapdown integrate` integrate and conversions.
+    TASKS: integrate, conversions, estimators, files (default: all); `strapdown estimate` uses estimators,
+    conversions and files, `strapdown integrate` integrate and files.
 
     \b
     Examples:
       strapdown warmup
-      strapdown warmup estimators conversions
+      strapdown warmup estimators conversions files
     """
     from ..warmup import warmup
 

@@ -164,24 +164,46 @@ def busy_two_cores(monkeypatch):
     monkeypatch.setattr(th, "claim", grant)
 
 
+@pytest.fixture
+def busy_eight_cores(busy_two_cores, monkeypatch):
+    """Eight cores and six other tasks running: auto chooses 2, and 8 threads could get 2.3x their time."""
+    monkeypatch.setattr(th, "_cores", lambda: 8)
+    monkeypatch.setattr(th, "_running_others", lambda: 6)
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 8)
+
+
 @pytest.mark.parametrize(
     ("cost", "rest"),
-    [({1: 3.0, 2: 1.0}, 2), ({1: 1.0, 2: 3.0}, 1), ({1: 1.0, 2: 0.9}, 1)],  # the last: within the margin
+    [({2: 3.0, 8: 1.0}, 8), ({2: 1.0, 8: 3.0}, 2), ({2: 1.0, 8: 0.9}, 2)],  # the last: within the margin
 )
-def test_busy_machine_probes_and_finishes_on_the_faster(busy_two_cores, cost, rest):
+def test_busy_machine_probes_and_finishes_on_the_faster(busy_eight_cores, cost, rest):
     m = _Machine(cost)
     p = th.PROBE_SAMPLES
     n = 10 * p + 5
     th.run(n, None, m.part, clock=m.clock)
-    assert m.calls == [(1, 0, p), (2, p, 2 * p), (rest, 2 * p, n)]
-    # a short call soon after reuses the verdict; once it is stale, the run queue decides again (one thread)
+    assert m.calls == [(2, 0, p), (8, p, 2 * p), (rest, 2 * p, n)]
+    # a short call soon after reuses the verdict; once it is stale, the run queue decides again (two threads)
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
     assert m.calls == [(rest, 0, p)]
     m.now += th.PROBE_VALID_S + 1.0
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
-    assert m.calls == [(1, 0, p)]
+    assert m.calls == [(2, 0, p)]
+
+
+@pytest.mark.parametrize("others", [1, 2, 3])
+def test_no_probe_where_the_scheduler_cannot_give_more_threads_the_margin(busy_two_cores, monkeypatch, others):
+    """Two cores beside 1-3 busy tasks: two threads get at most 2/(2+k) · 2 cores against one thread's share,
+    1.33x-1.6x, short of 1/PROBE_MARGIN: one call on one thread, no probe."""
+    monkeypatch.setattr(th, "_running_others", lambda: others)
+    gain = th._share(2, others, 2) / th._share(1, others, 2)
+    assert gain == pytest.approx([4 / 3, 1.5, 1.6][others - 1])
+    assert gain * th.PROBE_MARGIN < 1
+    m = _Machine({1: 1.0, 2: 0.1})
+    n = 10 * th.PROBE_SAMPLES
+    th.run(n, None, m.part, clock=m.clock)
+    assert m.calls == [(1, 0, n)]
 
 
 def test_probe_pieces_are_tile_aligned():

@@ -24,7 +24,8 @@ pool is touched at all.
    shares time per thread), sometimes lose.  So a long call times its first :data:`PROBE_SAMPLES` samples
    on the count above and the next ones on every core, and finishes on every core only if that was clearly
    faster (:data:`PROBE_MARGIN`); a verdict serves later short calls for :data:`PROBE_VALID_S` seconds.  The
-   worse setting costs at most one probe.
+   worse setting costs at most one probe.  No probe runs where the scheduler's share of time could not give
+   more threads that margin (two cores beside one or two busy processes: one thread, no probe).
 
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
 function of the size alone) and the threads only share out the blocks, so ``threads=1`` and ``threads=8``
@@ -79,10 +80,12 @@ PROBE_SAMPLES = 1 << 18
 #: Seconds a probe's verdict is reused by calls too short to probe (the chunks of a file pipeline).
 PROBE_VALID_S = 2.0
 #: More threads win the probe only when they took less than this fraction of the time of the run-queue's
-#: count: a probe is a few milliseconds, about one time slice, and on an oversubscribed machine the threads
-#: of a long call lose more at the barriers than a probe shows (2-core machine, two busy processes: a probe
-#: verdict of 2 threads, then 1.18x the time of one thread over 10^7 samples).
-PROBE_MARGIN = 0.8
+#: count.  A probe is a few milliseconds, about one time slice: it sees the larger share of CPU time that more
+#: threads get from the scheduler (at most 1.5x for two threads against two busy processes on two cores), but
+#: not what a long call then loses at the barriers when one of its threads is set aside.  On the 2-core
+#: machine under two busy processes, 10^7 samples took 1.2x the one-thread time after a 2-thread verdict with
+#: a margin of 0.8; with 0.6 more threads are taken only for a gain that a long call keeps.
+PROBE_MARGIN = 0.6
 
 _verdict = [1, -math.inf]  # threads, and the clock time until which that verdict stands
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
@@ -261,6 +264,10 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
         with claim(_verdict[0] if now < _verdict[1] else chosen) as t:
             part(t, 0, n)
         return
+    if not _could_win(chosen, most):  # the probe would only cost
+        with claim(chosen) as t:
+            part(t, 0, n)
+        return
     times = []
     for count, lo in ((chosen, 0), (most, PROBE_SAMPLES)):
         with claim(count) as t:
@@ -272,6 +279,28 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
     with claim(best) as t:
         part(t, 2 * PROBE_SAMPLES, n)
     _verdict[:] = [best, clock() + PROBE_VALID_S]  # from the end of this call
+
+
+def _share(threads: int, others: float, cores: int) -> float:
+    """Cores' worth of CPU time the scheduler gives `threads` threads beside `others` running tasks."""
+    if threads + others <= cores:
+        return float(threads)
+    return cores * threads / (threads + others)
+
+
+def _could_win(chosen: int, most: int) -> bool:
+    """Whether `most` threads could win the probe against `chosen` (PROBE_MARGIN) by their share of CPU time.
+
+    The scheduler shares the cores per task, so more threads get more time beside busy processes, but at most
+    in the ratio of :func:`_share`; when even that cannot beat the margin, the probe would only cost.  On two
+    cores beside one or two busy processes it cannot (1.33x, 1.5x), beside eight it can (1.8x).  Where the
+    system does not say what runs, the probe decides.
+    """
+    others = _running_others()
+    if others is None:
+        return True
+    cores = _cores()
+    return _share(most, others, cores) * PROBE_MARGIN > _share(chosen, others, cores)
 
 
 @contextmanager

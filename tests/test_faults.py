@@ -50,7 +50,13 @@ def spawn():
     started = []
 
     def run(args, **kw):
-        proc = subprocess.Popen(args, start_new_session=True, stderr=subprocess.PIPE, **kw)
+        # A suite started under nohup ignores SIGHUP, and children inherit that (the program rightly keeps an
+        # inherited "ignore"): the child starts with the default disposition, as from a terminal.
+        previous = signal.signal(signal.SIGHUP, signal.SIG_DFL)
+        try:
+            proc = subprocess.Popen(args, start_new_session=True, stderr=subprocess.PIPE, **kw)
+        finally:
+            signal.signal(signal.SIGHUP, previous)
         started.append(proc)
         return proc
 

@@ -292,8 +292,8 @@ def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out)
 
 
 # Samples per tile: its output (2 MiB) is still in the caches when phase 3 revisits it.  Smaller tiles ran
-# faster on one thread (2^14: 17 against 22 ns a sample), but they shorten the blocks, which costs accuracy at a
-# steady rate (_scan_offsets), so the tile stays at 2^16.
+# faster on one thread in a scratch A/B (2^14: 17 against 22 ns a sample), but they shorten the blocks, which costs
+# accuracy at a steady rate (_scan_offsets), so the tile stays at 2^16.
 SCAN_TILE = 1 << 16
 SCAN_BLOCKS = 8  # blocks per tile whatever the thread count, so that the arithmetic (the result) is fixed
 

@@ -3,6 +3,8 @@ that do not depend on the thread count.  Decisions only: no elapsed time is meas
 
 from __future__ import annotations
 
+import itertools
+
 import numba
 import numpy as np
 import pytest
@@ -172,50 +174,83 @@ def busy_eight_cores(busy_two_cores, monkeypatch):
     monkeypatch.setattr(numba, "get_num_threads", lambda: 8)
 
 
-@pytest.mark.parametrize(
-    ("cost", "rest"),
-    [({2: 3.0, 8: 1.0}, 8), ({2: 1.0, 8: 3.0}, 2), ({2: 1.0, 8: 0.9}, 2)],  # the last: within the margin
-)
-def test_busy_machine_probes_and_finishes_on_the_faster(busy_eight_cores, cost, rest):
+def _pieces_cover(calls, n):
+    """The pieces are contiguous, cover [0, n) and start on multiples of PIECE_SAMPLES (tile edges)."""
+    from strapdown._integrate_numba import SCAN_TILE
+
+    assert th.PIECE_SAMPLES % SCAN_TILE == 0  # a piece edge is a tile edge: the same bits as one call
+    assert calls[0][1] == 0 and calls[-1][2] == n
+    for (_, _, hi), (_, lo, _) in itertools.pairwise(calls):
+        assert hi == lo and lo % th.PIECE_SAMPLES == 0
+
+
+@pytest.mark.parametrize(("cost", "faster"), [({2: 3.0, 8: 1.0}, 8), ({2: 1.0, 8: 3.0}, 2)])
+def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, faster):
     m = _Machine(cost)
-    p = th.PROBE_SAMPLES
-    n = 10 * p + 5
+    p = th.PIECE_SAMPLES
+    n = 40 * p + 5
     th.run(n, None, m.part, clock=m.clock)
-    assert m.calls == [(2, 0, p), (8, p, 2 * p), (rest, 2 * p, n)]
+    _pieces_cover(m.calls, n)
+    counts = [t for t, _, _ in m.calls]
+    assert counts[:2] == [2, 8]  # the run queue's count first, then every core
+    rest = counts[2:]
+    # the faster from then on, the other timed again on one piece in RECHECK_PIECES
+    slower = 2 if faster == 8 else 8
+    assert rest.count(slower) == pytest.approx(len(rest) / th.RECHECK_PIECES, abs=1)
+    assert all(rest[i] == faster for i in range(len(rest)) if rest[i - 1] == slower or i == 0)
+    # the time is within the rechecks' share of running on the faster count alone
+    alone = cost[faster] * n
+    assert m.now <= alone * (1 + 3.0 / th.RECHECK_PIECES) + cost[slower] * p
     # a short call soon after reuses the verdict; once it is stale, the run queue decides again (two threads)
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
-    assert m.calls == [(rest, 0, p)]
-    m.now += th.PROBE_VALID_S + 1.0
+    assert m.calls == [(faster, 0, p)]
+    m.now += th.VERDICT_VALID_S + 1.0
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
     assert m.calls == [(2, 0, p)]
 
 
-@pytest.mark.parametrize("others", [1, 2, 3])
-def test_no_probe_where_the_scheduler_cannot_give_more_threads_the_margin(busy_two_cores, monkeypatch, others):
-    """Two cores beside 1-3 busy tasks: two threads get at most 2/(2+k) · 2 cores against one thread's share,
-    1.33x-1.6x, short of 1/PROBE_MARGIN: one call on one thread, no probe."""
-    monkeypatch.setattr(th, "_running_others", lambda: others)
-    gain = th._share(2, others, 2) / th._share(1, others, 2)
-    assert gain == pytest.approx([4 / 3, 1.5, 1.6][others - 1])
-    assert gain * th.PROBE_MARGIN < 1
-    m = _Machine({1: 1.0, 2: 0.1})
-    n = 10 * th.PROBE_SAMPLES
+def test_more_threads_are_kept_only_when_clearly_faster(busy_eight_cores):
+    m = _Machine({2: 1.0, 8: 0.5 * (1 + th.PIECE_MARGIN)})  # faster, but within the margin
+    n = 10 * th.PIECE_SAMPLES
     th.run(n, None, m.part, clock=m.clock)
-    assert m.calls == [(1, 0, n)]
+    assert [t for t, _, _ in m.calls].count(8) == 1 + (len(m.calls) - 2) // th.RECHECK_PIECES
 
 
-def test_probe_pieces_are_tile_aligned():
-    from strapdown._integrate_numba import SCAN_TILE
+def test_the_choice_follows_a_change_of_load(busy_two_cores):
+    """Two threads win until the load changes halfway; the rechecks then bring the call back to one thread."""
+    p = th.PIECE_SAMPLES
+    n = 64 * p
 
-    assert th.PROBE_SAMPLES % SCAN_TILE == 0  # pieces start on tile edges: the same bits as one call
+    class Changing(_Machine):
+        def part(self, t, lo, hi):
+            self.cost = {1: 1.0, 2: 0.5} if lo < n // 2 else {1: 1.0, 2: 2.0}
+            super().part(t, lo, hi)
+
+    m = Changing({})
+    th.run(n, None, m.part, clock=m.clock)
+    _pieces_cover(m.calls, n)
+    first, second = [[t for t, lo, _ in m.calls if (lo < n // 2) == half] for half in (True, False)]
+    assert first.count(2) >= len(first) - 1 - len(first) // th.RECHECK_PIECES
+    # after the first piece that shows one thread faster, two threads run only as single rechecks
+    after = second[second.index(1) :]
+    assert all(not (a == 2 and b == 2) for a, b in itertools.pairwise(after))
+    assert after.count(2) <= len(after) // th.RECHECK_PIECES + 1
+
+
+def test_no_short_last_piece(busy_two_cores):
+    m = _Machine({1: 1.0, 2: 1.0})
+    p = th.PIECE_SAMPLES
+    n = 3 * p + p // 4  # the quarter piece joins the third
+    th.run(n, None, m.part, clock=m.clock)
+    assert [(lo, hi) for _, lo, hi in m.calls] == [(0, p), (p, 2 * p), (2 * p, n)]
 
 
 @pytest.mark.parametrize("threads", [1, 2])
 def test_a_setting_is_never_second_guessed(busy_two_cores, threads):
     m = _Machine({1: 1.0, 2: 1.0})
-    n = 10 * th.PROBE_SAMPLES
+    n = 10 * th.PIECE_SAMPLES
     th.run(n, threads, m.part, clock=m.clock)
     assert m.calls == [(threads, 0, n)]
 
@@ -223,15 +258,15 @@ def test_a_setting_is_never_second_guessed(busy_two_cores, threads):
 def test_free_machine_runs_in_one_call_on_every_core(busy_two_cores, monkeypatch):
     monkeypatch.setattr(th, "_running_others", lambda: 0)
     m = _Machine({1: 1.0, 2: 1.0})
-    n = 10 * th.PROBE_SAMPLES
+    n = 10 * th.PIECE_SAMPLES
     th.run(n, None, m.part, clock=m.clock)
     assert m.calls == [(2, 0, n)]
 
 
-def test_auto_with_a_probe_gives_the_bits_of_one_thread(rng, monkeypatch):
+def test_auto_measuring_in_pieces_gives_the_bits_of_one_thread(rng, monkeypatch):
     monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
-    monkeypatch.setattr(th, "_running_others", lambda: 8)  # busy: the call probes (when there are two cores)
-    n = 3 * th.PROBE_SAMPLES + 4321
+    monkeypatch.setattr(th, "_running_others", lambda: 8)  # busy: the call runs in timed pieces
+    n = 2 * th.PIECE_SAMPLES + 4321
     g = rng.standard_normal((n, 3))
     dt = rng.uniform(0.001, 0.01, n)  # per-step durations: the pieces slice them too
     assert integrate(g, dt).tobytes() == integrate(g, dt, threads=1).tobytes()

@@ -19,13 +19,16 @@ still limit it) and by the size: each thread must get at least :data:`MIN_SAMPLE
 which waking it costs more than it saves.  One thread means the serial build of the same kernel: no thread
 pool is touched at all.
 
-4. A quick measure when the run queue says busy (auto mode only, :func:`run`): the run queue cannot tell
-   whether more threads would still win, and on an oversubscribed machine they sometimes do (the scheduler
-   shares time per thread), sometimes lose.  So a long call times its first :data:`PROBE_SAMPLES` samples
-   on the count above and the next ones on every core, and finishes on every core only if that was clearly
-   faster (:data:`PROBE_MARGIN`); a verdict serves later short calls for :data:`PROBE_VALID_S` seconds.  The
-   worse setting costs at most one probe.  No probe runs where the scheduler's share of time could not give
-   more threads that margin (two cores beside one or two busy processes: one thread, no probe).
+4. Measuring as it goes when the run queue says busy (auto mode only, :func:`run`): the run queue cannot tell
+   whether more threads would still win, and that depends on the machine.  On the first 2-core machine of
+   issue 15 two threads beside two busy processes lost 1.2x to one thread over a long call; on a later one
+   (another hypervisor) they won 1.4x.  So a long call runs in pieces of :data:`PIECE_SAMPLES`, times each
+   piece, and keeps the faster count: the first piece on the run-queue's count, the second on every core,
+   then the faster of the two (more threads only when clearly faster, :data:`PIECE_MARGIN`), with the other
+   count timed again on one piece in every :data:`RECHECK_PIECES` so that a change of load is followed.  A
+   piece is several scheduler time slices long, and every piece updates its count's rate (:func:`_measured`),
+   so a verdict rests on what the call itself gets, not on a few milliseconds' guess.  The verdict serves
+   later calls too short to measure for :data:`VERDICT_VALID_S` seconds.
 
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
 function of the size alone) and the threads only share out the blocks, so ``threads=1`` and ``threads=8``
@@ -58,8 +61,10 @@ from contextlib import contextmanager
 __all__ = [
     "ENV",
     "MIN_SAMPLES_PER_THREAD",
-    "PROBE_MARGIN",
-    "PROBE_SAMPLES",
+    "PIECE_MARGIN",
+    "PIECE_SAMPLES",
+    "RECHECK_PIECES",
+    "VERDICT_VALID_S",
     "choose",
     "claim",
     "free_cores",
@@ -75,17 +80,17 @@ ENV = "STRAPDOWN_THREADS"
 #: on a sleeping OpenMP worker is tens of microseconds; 2^16 samples take about 1 ms on one core).
 MIN_SAMPLES_PER_THREAD = 1 << 16
 
-#: Samples in each probe of :func:`run` (four tiles of the scan: about 5 ms on one core).
-PROBE_SAMPLES = 1 << 18
-#: Seconds a probe's verdict is reused by calls too short to probe (the chunks of a file pipeline).
-PROBE_VALID_S = 2.0
-#: More threads win the probe only when they took less than this fraction of the time of the run-queue's
-#: count.  A probe is a few milliseconds, about one time slice: it sees the larger share of CPU time that more
-#: threads get from the scheduler (at most 1.5x for two threads against two busy processes on two cores), but
-#: not what a long call then loses at the barriers when one of its threads is set aside.  On the 2-core
-#: machine under two busy processes, 10^7 samples took 1.2x the one-thread time after a 2-thread verdict with
-#: a margin of 0.8; with 0.6 more threads are taken only for a gain that a long call keeps.
-PROBE_MARGIN = 0.6
+#: Samples in each timed piece of a long call on a busy machine (16 tiles of the scan: 15-40 ms on a contended
+#: core of the 2-core machine, several time slices of the scheduler).
+PIECE_SAMPLES = 1 << 20
+#: More threads are kept only when their pieces took less than this fraction of the time per sample of the
+#: run-queue's count: when both are alike, fewer threads leave more of the machine to the other processes.
+PIECE_MARGIN = 0.95
+#: One piece in this many runs on the count not chosen, so that the choice follows a change of load; the
+#: worse count then costs at most that share of the call (against a fixed choice of the better one).
+RECHECK_PIECES = 8
+#: Seconds a verdict is reused by calls too short to measure (the chunks of a file pipeline).
+VERDICT_VALID_S = 2.0
 
 _verdict = [1, -math.inf]  # threads, and the clock time until which that verdict stands
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
@@ -231,11 +236,11 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
 
     With a setting (``threads=``, ``STRAPDOWN_THREADS``, a batch worker), or when the run queue shows every
     useful core free, this is one call with :func:`choose`'s count.  On a machine the run queue calls busy,
-    auto mode measures instead of guessing: the first :data:`PROBE_SAMPLES` on :func:`choose`'s count (one
-    thread), the next on every core, and the rest on every core only if those were clearly faster (the quick
-    measure of the module notes); the verdict serves later calls too short to probe for :data:`PROBE_VALID_S`
-    seconds.  The pieces start at multiples of PROBE_SAMPLES, a multiple of the scan's tile, so the result has
-    the same bits as one call, whatever the verdict.
+    auto mode measures instead of guessing (module notes, item 4): pieces of :data:`PIECE_SAMPLES`, the first
+    on :func:`choose`'s count, the second on every core, then the faster, rechecked every
+    :data:`RECHECK_PIECES` pieces; calls shorter than two pieces take the last verdict while it is fresh
+    (:data:`VERDICT_VALID_S`).  The pieces start at multiples of PIECE_SAMPLES, a multiple of the scan's
+    tile, so the result has the same bits as one call, whatever the counts.
 
     Parameters
     ----------
@@ -259,48 +264,46 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
         with claim(chosen) as t:
             part(t, 0, n)
         return
-    now = clock()
-    if n < 3 * PROBE_SAMPLES:  # too short to probe: the last verdict while it is fresh
-        with claim(_verdict[0] if now < _verdict[1] else chosen) as t:
+    if n < 2 * PIECE_SAMPLES:  # too short to measure: the last verdict while it is fresh
+        with claim(_verdict[0] if clock() < _verdict[1] else chosen) as t:
             part(t, 0, n)
         return
-    if not _could_win(chosen, most):  # the probe would only cost
-        with claim(chosen) as t:
-            part(t, 0, n)
-        return
-    times = []
-    for count, lo in ((chosen, 0), (most, PROBE_SAMPLES)):
+    _verdict[:] = [_measured(n, chosen, most, part, clock), clock() + VERDICT_VALID_S]
+
+
+def _measured(n: int, few: int, many: int, part, clock) -> int:
+    """Run n samples in timed pieces on `few` or `many` threads, keeping the faster (:func:`run`); the verdict.
+
+    Each count's rate is the seconds per sample of its pieces, the latest weighted as much as all before it:
+    one piece can fall on a bad phase of the scheduler's time slices (the same count took 15 to 40 ns a
+    sample from one piece to the next under two busy processes on the 2-core machine), and the rate still
+    follows a change of load within a recheck or two.  A count that the claim could not grant
+    (another Python thread holds the kernels) is timed as the count it got.
+    """
+    rate = {}
+    best = few
+    since = 0  # pieces on `best` since the other count was last timed
+    for k, lo in enumerate(range(0, n, PIECE_SAMPLES)):
+        hi = min(lo + PIECE_SAMPLES, n)
+        if hi < n and n - hi < PIECE_SAMPLES // 2:
+            hi = n  # no short last piece: it would be timed at a different cost per sample
+        if k == 0:
+            count = few
+        elif k == 1 or since >= RECHECK_PIECES - 1:
+            count = many if best == few else few
+        else:
+            count = best
         with claim(count) as t:
             start = clock()
-            part(t, lo, lo + PROBE_SAMPLES)
-            times.append((clock() - start, t))
-    (t_few, few), (t_most, many) = times
-    best = many if t_most < PROBE_MARGIN * t_few else few
-    with claim(best) as t:
-        part(t, 2 * PROBE_SAMPLES, n)
-    _verdict[:] = [best, clock() + PROBE_VALID_S]  # from the end of this call
-
-
-def _share(threads: int, others: float, cores: int) -> float:
-    """Cores' worth of CPU time the scheduler gives `threads` threads beside `others` running tasks."""
-    if threads + others <= cores:
-        return float(threads)
-    return cores * threads / (threads + others)
-
-
-def _could_win(chosen: int, most: int) -> bool:
-    """Whether `most` threads could win the probe against `chosen` (PROBE_MARGIN) by their share of CPU time.
-
-    The scheduler shares the cores per task, so more threads get more time beside busy processes, but at most
-    in the ratio of :func:`_share`; when even that cannot beat the margin, the probe would only cost.  On two
-    cores beside one or two busy processes it cannot (1.33x, 1.5x), beside eight it can (1.8x).  Where the
-    system does not say what runs, the probe decides.
-    """
-    others = _running_others()
-    if others is None:
-        return True
-    cores = _cores()
-    return _share(most, others, cores) * PROBE_MARGIN > _share(chosen, others, cores)
+            part(t, lo, hi)
+            seconds = (clock() - start) / (hi - lo)
+        rate[t] = seconds if t not in rate else 0.5 * (rate[t] + seconds)
+        since = 0 if count != best else since + 1
+        if few in rate and many in rate:
+            best = many if rate[many] < PIECE_MARGIN * rate[few] else few
+        if hi == n:
+            break
+    return best
 
 
 @contextmanager

@@ -157,7 +157,7 @@ def busy_two_cores(monkeypatch):
     monkeypatch.setattr(th, "_cores", lambda: 2)
     monkeypatch.setattr(th, "_running_others", lambda: 3)
     monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
-    monkeypatch.setattr(th, "_verdict", [1, -np.inf])
+    monkeypatch.setattr(th, "_verdict", [1, -np.inf, 1.0])
 
     @contextmanager
     def grant(t):
@@ -184,8 +184,9 @@ def _pieces_cover(calls, n):
         assert hi == lo and lo % th.PIECE_SAMPLES == 0
 
 
-@pytest.mark.parametrize(("cost", "faster"), [({2: 3.0, 8: 1.0}, 8), ({2: 1.0, 8: 3.0}, 2)])
+@pytest.mark.parametrize(("cost", "faster"), [({2: 3e-8, 8: 1e-8}, 8), ({2: 1e-8, 8: 3e-8}, 2)])
 def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, faster):
+    """Seconds per sample as on a real machine (10-30 ns), so that a verdict is still fresh for the next call."""
     m = _Machine(cost)
     p = th.PIECE_SAMPLES
     n = 40 * p + 5
@@ -193,11 +194,11 @@ def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, fast
     _pieces_cover(m.calls, n)
     counts = [t for t, _, _ in m.calls]
     assert counts[:2] == [2, 8]  # the run queue's count first, then every core
-    rest = counts[2:]
-    # the faster from then on, the other timed again on one piece in RECHECK_PIECES
+    # the faster from then on; the other timed again after RECHECK_PIECES pieces, then after gaps that double
     slower = 2 if faster == 8 else 8
-    assert rest.count(slower) == pytest.approx(len(rest) / th.RECHECK_PIECES, abs=1)
-    assert all(rest[i] == faster for i in range(len(rest)) if rest[i - 1] == slower or i == 0)
+    checks = [k for k, t in enumerate(counts) if t == slower and k > 1]
+    gaps = [b - a for a, b in itertools.pairwise([1, *checks])]
+    assert gaps == [th.RECHECK_PIECES * 2**i for i in range(len(gaps))] and len(checks) >= 2
     # the time is within the rechecks' share of running on the faster count alone
     alone = cost[faster] * n
     assert m.now <= alone * (1 + 3.0 / th.RECHECK_PIECES) + cost[slower] * p
@@ -205,6 +206,12 @@ def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, fast
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
     assert m.calls == [(faster, 0, p)]
+    # a long call while the verdict stands starts on it, without timing both counts first
+    m.calls.clear()
+    th.run(n, None, m.part, clock=m.clock)
+    counts = [t for t, _, _ in m.calls]
+    assert counts[: th.RECHECK_PIECES - 1] == [faster] * (th.RECHECK_PIECES - 1)
+    assert counts[th.RECHECK_PIECES - 1] == slower
     m.now += th.VERDICT_VALID_S + 1.0
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)

@@ -25,7 +25,8 @@ pool is touched at all.
    (another hypervisor) they won 1.4x.  So a long call runs in pieces of :data:`PIECE_SAMPLES`, times each
    piece, and keeps the faster count: the first piece on the run-queue's count, the second on every core,
    then the faster of the two (more threads only when clearly faster, :data:`PIECE_MARGIN`), with the other
-   count timed again on one piece in every :data:`RECHECK_PIECES` so that a change of load is followed.  A
+   count timed again after :data:`RECHECK_PIECES` pieces, then after gaps that double while it stays slower,
+   so that a change of load is followed and a count that does badly costs little.  A
    piece is several scheduler time slices long, and every piece updates its count's rate (:func:`_measured`),
    so a verdict rests on what the call itself gets, not on a few milliseconds' guess.  The verdict serves
    later calls too short to measure for :data:`VERDICT_VALID_S` seconds.
@@ -86,13 +87,15 @@ PIECE_SAMPLES = 1 << 20
 #: More threads are kept only when their pieces took less than this fraction of the time per sample of the
 #: run-queue's count: when both are alike, fewer threads leave more of the machine to the other processes.
 PIECE_MARGIN = 0.95
-#: One piece in this many runs on the count not chosen, so that the choice follows a change of load; the
-#: worse count then costs at most that share of the call (against a fixed choice of the better one).
+#: Pieces after which the count not chosen is timed again (the gap doubles each time it confirms the choice),
+#: so that the choice follows a change of load; the worse count then costs at most that share of a call.
 RECHECK_PIECES = 8
 #: Seconds a verdict is reused by calls too short to measure (the chunks of a file pipeline).
 VERDICT_VALID_S = 2.0
 
-_verdict = [1, -math.inf]  # threads, and the clock time until which that verdict stands
+# the threads of the last verdict, the clock time until which it stands, and the other count's time per sample
+# over the verdict's (what a call that starts from the verdict assumes until it times the other count itself)
+_verdict = [1, -math.inf, 1.0]
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
 _local = threading.local()
 _layer_ready = False
@@ -237,8 +240,9 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
     With a setting (``threads=``, ``STRAPDOWN_THREADS``, a batch worker), or when the run queue shows every
     useful core free, this is one call with :func:`choose`'s count.  On a machine the run queue calls busy,
     auto mode measures instead of guessing (module notes, item 4): pieces of :data:`PIECE_SAMPLES`, the first
-    on :func:`choose`'s count, the second on every core, then the faster, rechecked every
-    :data:`RECHECK_PIECES` pieces; calls shorter than two pieces take the last verdict while it is fresh
+    on :func:`choose`'s count, the second on every core (or the first on the last verdict while it stands),
+    then the faster, the other rechecked at growing gaps; calls shorter than two pieces take the last verdict
+    while it is fresh
     (:data:`VERDICT_VALID_S`).  The pieces start at multiples of PIECE_SAMPLES, a multiple of the scan's
     tile, so the result has the same bits as one call, whatever the counts.
 
@@ -268,42 +272,58 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
         with claim(_verdict[0] if clock() < _verdict[1] else chosen) as t:
             part(t, 0, n)
         return
-    _verdict[:] = [_measured(n, chosen, most, part, clock), clock() + VERDICT_VALID_S]
+    best, ratio = _measured(n, chosen, most, part, clock)
+    _verdict[:] = [best, clock() + VERDICT_VALID_S, ratio]
 
 
-def _measured(n: int, few: int, many: int, part, clock) -> int:
-    """Run n samples in timed pieces on `few` or `many` threads, keeping the faster (:func:`run`); the verdict.
+def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float]:
+    """Run n samples in timed pieces on `few` or `many` threads, keeping the faster (:func:`run`).
 
     Each count's rate is the seconds per sample of its pieces, the latest weighted as much as all before it:
     one piece can fall on a bad phase of the scheduler's time slices (the same count took 15 to 40 ns a
     sample from one piece to the next under two busy processes on the 2-core machine), and the rate still
-    follows a change of load within a recheck or two.  A count that the claim could not grant
+    follows a change of load within a piece or two.  The count not chosen is timed again after
+    :data:`RECHECK_PIECES` pieces, and after twice as many each time it confirms the choice, so that a count
+    that does badly costs less and less of a long call; a change of choice starts the gaps again.  A call
+    that begins while the last verdict stands starts on it and takes the other count's rate from it (as a
+    ratio to its own first piece) instead of timing both first.  A count that the claim could not grant
     (another Python thread holds the kernels) is timed as the count it got.
+
+    Returns the verdict: the faster count, and the other's time per sample over it.
     """
-    rate = {}
-    best = few
+    fresh = clock() < _verdict[1] and _verdict[0] in (few, many)
+    best = _verdict[0] if fresh else few
+    rate: dict[int, float] = {}
+    gap = RECHECK_PIECES  # pieces between timings of the count not chosen
     since = 0  # pieces on `best` since the other count was last timed
+    checked = False  # whether this call has timed the count not chosen (a first timing confirms nothing)
     for k, lo in enumerate(range(0, n, PIECE_SAMPLES)):
         hi = min(lo + PIECE_SAMPLES, n)
         if hi < n and n - hi < PIECE_SAMPLES // 2:
             hi = n  # no short last piece: it would be timed at a different cost per sample
-        if k == 0:
-            count = few
-        elif k == 1 or since >= RECHECK_PIECES - 1:
-            count = many if best == few else few
-        else:
-            count = best
+        other = many if best == few else few
+        count = other if (k > 0 and other not in rate) or since >= gap - 1 else best
         with claim(count) as t:
             start = clock()
             part(t, lo, hi)
             seconds = (clock() - start) / (hi - lo)
         rate[t] = seconds if t not in rate else 0.5 * (rate[t] + seconds)
-        since = 0 if count != best else since + 1
+        if k == 0 and fresh and t == best:
+            rate.setdefault(other, _verdict[2] * seconds)
         if few in rate and many in rate:
-            best = many if rate[many] < PIECE_MARGIN * rate[few] else few
+            faster = many if rate[many] < PIECE_MARGIN * rate[few] else few
+            if count != best:  # the other count was timed: a confirmation doubles the gap
+                gap = gap * 2 if faster == best and checked else RECHECK_PIECES
+                since, checked = 0, True
+            elif faster != best:
+                gap, since = RECHECK_PIECES, 0
+            else:
+                since += 1
+            best = faster
         if hi == n:
             break
-    return best
+    other = many if best == few else few
+    return best, (rate[other] / rate[best] if other in rate and rate[best] > 0 else 1.0)
 
 
 @contextmanager

@@ -246,6 +246,17 @@ def test_the_choice_follows_a_change_of_load(busy_two_cores):
     assert after.count(2) <= len(after) // th.RECHECK_PIECES + 1
 
 
+def test_a_moment_of_load_is_looked_at_twice(busy_two_cores, monkeypatch):
+    """A task seen once in the run queue and gone a moment later (a kernel thread) does not make a long call
+    measure in pieces: the second look finds the cores free, and the call runs on both at once."""
+    reads = iter([3, 0])
+    monkeypatch.setattr(th, "_running_others", lambda: next(reads))
+    m = _Machine({1: 1.0, 2: 1.0})
+    n = 10 * th.PIECE_SAMPLES
+    th.run(n, None, m.part, clock=m.clock)
+    assert m.calls == [(2, 0, n)]
+
+
 def test_no_short_last_piece(busy_two_cores):
     m = _Machine({1: 1.0, 2: 1.0})
     p = th.PIECE_SAMPLES

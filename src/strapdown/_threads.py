@@ -28,7 +28,9 @@ pool is touched at all.
    count timed again after :data:`RECHECK_PIECES` pieces, then after gaps that double while it stays slower,
    so that a change of load is followed and a count that does badly costs little.  A
    piece is several scheduler time slices long, and every piece updates its count's rate (:func:`_measured`),
-   so a verdict rests on what the call itself gets, not on a few milliseconds' guess.  The verdict serves
+   so a verdict rests on what the call itself gets, not on a few milliseconds' guess.  Before measuring, a
+   call looks at the run queue a second time a millisecond later (:func:`_second_look`): a kernel thread
+   that ran for a moment is gone by then, a busy process is not.  The verdict serves
    later calls too short to measure for :data:`VERDICT_VALID_S` seconds.
 
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
@@ -90,6 +92,8 @@ PIECE_MARGIN = 0.95
 #: Pieces after which the count not chosen is timed again (the gap doubles each time it confirms the choice),
 #: so that the choice follows a change of load; the worse count then costs at most that share of a call.
 RECHECK_PIECES = 8
+#: Seconds between the two reads of the run queue before a long call is measured in pieces (_second_look).
+SECOND_LOOK_S = 0.001
 #: Seconds a verdict is reused by calls too short to measure (the chunks of a file pipeline).
 VERDICT_VALID_S = 2.0
 
@@ -264,6 +268,8 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
 
         prepare_layer()
         most = max(1, min(_cores(), numba.get_num_threads(), n // MIN_SAMPLES_PER_THREAD))
+        if most > chosen and n >= 2 * PIECE_SAMPLES:
+            chosen = _second_look(n, threads, chosen)
     if most <= chosen:  # told, or every useful core is free: nothing to measure
         with claim(chosen) as t:
             part(t, 0, n)
@@ -274,6 +280,19 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
         return
     best, ratio = _measured(n, chosen, most, part, clock)
     _verdict[:] = [best, clock() + VERDICT_VALID_S, ratio]
+
+
+def _second_look(n: int, threads, chosen: int) -> int:
+    """The run queue's count read again after :data:`SECOND_LOOK_S`, the larger of the two kept.
+
+    A process that keeps a core busy is in the run queue at every read; a kernel thread that runs for a moment
+    is not.  On the 2-core VM one idle call in ten, right after an earlier call had freed its output, read a
+    busy run queue (the kernel's worker handing the freed memory back to the host) and so began its timed
+    pieces on one thread.  Only calls long enough to measure look twice (2 x PIECE_SAMPLES samples take tens
+    of milliseconds, against the pause of one millisecond).
+    """
+    time.sleep(SECOND_LOOK_S)
+    return max(chosen, choose(n, threads))
 
 
 def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float]:

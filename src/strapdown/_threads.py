@@ -26,12 +26,12 @@ pool is touched at all.
    piece, and keeps the faster count: the first piece on the run-queue's count, the second on every core,
    then the faster of the two (more threads only when clearly faster, :data:`PIECE_MARGIN`), with the other
    count timed again after :data:`RECHECK_PIECES` pieces, then after gaps that double while it stays slower,
-   so that a change of load is followed and a count that does badly costs little.  A
-   piece is several scheduler time slices long, and every piece updates its count's rate (:func:`_measured`),
-   so a verdict rests on what the call itself gets, not on a few milliseconds' guess.  Before measuring, a
-   call looks at the run queue a second time a millisecond later (:func:`_second_look`): a kernel thread
-   that ran for a moment is gone by then, a busy process is not.  The verdict serves
-   later calls too short to measure for :data:`VERDICT_VALID_S` seconds.
+   so that a change of load is followed and a count that does badly costs little.  A piece is several
+   scheduler time slices long, and every piece updates its count's rate (:func:`_measured`), so a verdict
+   rests on what the call itself gets, not on a few milliseconds' guess.  Before measuring, a call looks at
+   the run queue a second time a millisecond later (:func:`_second_look`): a kernel thread that ran for a
+   moment is gone by then, a busy process is not.  The verdict serves later calls too short to measure for
+   :data:`VERDICT_VALID_S` seconds, and a long call that starts while it stands begins on it.
 
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
 function of the size alone) and the threads only share out the blocks, so ``threads=1`` and ``threads=8``
@@ -246,9 +246,8 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
     auto mode measures instead of guessing (module notes, item 4): pieces of :data:`PIECE_SAMPLES`, the first
     on :func:`choose`'s count, the second on every core (or the first on the last verdict while it stands),
     then the faster, the other rechecked at growing gaps; calls shorter than two pieces take the last verdict
-    while it is fresh
-    (:data:`VERDICT_VALID_S`).  The pieces start at multiples of PIECE_SAMPLES, a multiple of the scan's
-    tile, so the result has the same bits as one call, whatever the counts.
+    while it is fresh (:data:`VERDICT_VALID_S`).  The pieces start at multiples of PIECE_SAMPLES, a multiple
+    of the scan's tile, so the result has the same bits as one call, whatever the counts.
 
     Parameters
     ----------
@@ -287,9 +286,10 @@ def _second_look(n: int, threads, chosen: int) -> int:
 
     A process that keeps a core busy is in the run queue at every read; a kernel thread that runs for a moment
     is not.  On the 2-core VM one idle call in ten, right after an earlier call had freed its output, read a
-    busy run queue (the kernel's worker handing the freed memory back to the host) and so began its timed
-    pieces on one thread.  Only calls long enough to measure look twice (2 x PIECE_SAMPLES samples take tens
-    of milliseconds, against the pause of one millisecond).
+    busy run queue and so began its timed pieces on one thread.  The run queue does not say which task that
+    was; a kernel worker is the likely one (freeing memory on this VM hands it back to the host).  Only calls
+    long enough to measure look twice (2 x PIECE_SAMPLES samples take tens of milliseconds, against the pause
+    of one millisecond).
     """
     time.sleep(SECOND_LOOK_S)
     return max(chosen, choose(n, threads))

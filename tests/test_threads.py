@@ -222,11 +222,14 @@ def test_more_threads_are_kept_only_when_clearly_faster(busy_eight_cores):
     m = _Machine({2: 1.0, 8: 0.5 * (1 + th.PIECE_MARGIN)})  # faster, but within the margin
     n = 10 * th.PIECE_SAMPLES
     th.run(n, None, m.part, clock=m.clock)
-    assert [t for t, _, _ in m.calls].count(8) == 1 + (len(m.calls) - 2) // th.RECHECK_PIECES
+    counts = [t for t, _, _ in m.calls]
+    assert len(counts) == 10 and counts.count(8) == 2  # the first timing, and one recheck after RECHECK_PIECES
+    assert counts[1] == counts[1 + th.RECHECK_PIECES] == 8
 
 
 def test_the_choice_follows_a_change_of_load(busy_two_cores):
-    """Two threads win until the load changes halfway; the rechecks then bring the call back to one thread."""
+    """Two threads win until the load changes halfway; their own pieces then show it, and the call goes back to
+    one thread, timing two again only as single rechecks."""
     p = th.PIECE_SAMPLES
     n = 64 * p
 

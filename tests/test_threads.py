@@ -306,12 +306,15 @@ def test_interleaved_chains_give_the_bits_of_one_chain_at_a_time(kind, rng):
     bounds = np.array([0, n // 4, n // 2, 3 * n // 4, n])
     assert len(set(np.diff(bounds))) == 2
     chain_norm = k.NORM_EXACT if kind == k.KIND_FIRST else k.NORM_NONE
-    four, one = np.empty((n, 4)), np.empty((n, 4))
+    four, one = np.full((4, 4, k.SCAN_COLS), np.nan), np.full((4, 4, k.SCAN_COLS), np.nan)  # block scratch
     ends4, ends1 = np.empty((4, 4)), np.empty((4, 4))
     k._local4(g, h, 0, 1.0, kind, chain_norm, bounds, 0, four, ends4)
     for blk in range(4):
         k._local1(g, h, 0, 1.0, kind, chain_norm, bounds, blk, one, ends1)
-    assert four.tobytes() == one.tobytes()
+    for blk, size in enumerate(np.diff(bounds)):
+        assert not np.isnan(four[blk, :, :size]).any()  # every sample of the block written, in its columns
+        assert four[blk, :, :size].tobytes() == one[blk, :, :size].tobytes()
+        assert four[blk, :, size - 1].tobytes() == ends4[blk].tobytes()  # the end is the last sample
     assert ends4.tobytes() == ends1.tobytes()
 
 
@@ -328,13 +331,16 @@ def test_scan_bits_do_not_depend_on_how_the_blocks_are_shared(rng):
         out = np.empty((n, 4))
         prev_b, cur_b = np.zeros(k.SCAN_BLOCKS + 2, np.int64), np.zeros(k.SCAN_BLOCKS + 2, np.int64)
         prev, cur = np.zeros((2 * k.SCAN_BLOCKS, 4)), np.zeros((2 * k.SCAN_BLOCKS, 4))
+        prev_c, cur_c = (np.empty((k.SCAN_BLOCKS, 4, k.SCAN_COLS)) for _ in range(2))
         for start in range(0, n + k.SCAN_TILE, k.SCAN_TILE):
             k._tile_record(start, min(start + k.SCAN_TILE, n), cur_b)
             for part in reversed(range(n_parts)):  # any order: the parts are independent within a region
-                k._scan_part(g, h, 0, 1.0, k.KIND_EXACT, True, part, n_parts, prev_b, prev, cur_b, cur, out)
+                k._scan_part(
+                    g, h, 0, 1.0, k.KIND_EXACT, True, part, n_parts, prev_b, prev, prev_c, cur_b, cur, cur_c, out
+                )
             if cur_b[0] > 0:
                 k._scan_offsets(True, k.KIND_EXACT, q, cur_b, cur)
-            prev_b, cur_b, prev, cur = cur_b, prev_b, cur, prev
+            prev_b, cur_b, prev, cur, prev_c, cur_c = cur_b, prev_b, cur, prev, cur_c, prev_c
         results.append(out)
         assert q.tobytes() == out[-1].tobytes()  # the carried attitude is the last output, bit for bit
     q0 = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])

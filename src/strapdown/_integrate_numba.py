@@ -485,7 +485,7 @@ def _scan_part(g, h, hstep, scale, kind, unit, part, n_parts, prev_b, prev, prev
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def _start_advance(sw, sx, sy, sz, ew, ex, ey, ez, unit, fix_mode):
-    """The start attitude of the next block, s ⊗ e, normalised with `unit` as _rotate_rows does (phase 2).
+    """The start attitude of the next block, s ⊗ e, normalised with `unit` as _rotate_block does (phase 2).
 
     The same operations as phase 3 on the block's last sample (whose local value is e), so the attitude carried
     to the next tile is that row's output bit for bit.

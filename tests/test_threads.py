@@ -157,7 +157,7 @@ def busy_two_cores(monkeypatch):
     monkeypatch.setattr(th, "_cores", lambda: 2)
     monkeypatch.setattr(th, "_running_others", lambda: 3)
     monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
-    monkeypatch.setattr(th, "_verdict", [1, -np.inf, 1.0])
+    monkeypatch.setattr(th, "_verdict", [1, -np.inf, 1.0, th.RECHECK_PIECES, 0])
 
     @contextmanager
     def grant(t):
@@ -196,7 +196,8 @@ def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, fast
     assert counts[:2] == [2, 8]  # the run queue's count first, then every core
     # the faster from then on; the other timed again after RECHECK_PIECES pieces, then after gaps that double
     slower = 2 if faster == 8 else 8
-    checks = [k for k, t in enumerate(counts) if t == slower and k > 1]
+    first = counts
+    checks = [k for k, t in enumerate(first) if t == slower and k > 1]
     gaps = [b - a for a, b in itertools.pairwise([1, *checks])]
     assert gaps == [th.RECHECK_PIECES * 2**i for i in range(len(gaps))] and len(checks) >= 2
     # the time is within the rechecks' share of running on the faster count alone
@@ -206,16 +207,48 @@ def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, fast
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
     assert m.calls == [(faster, 0, p)]
-    # a long call while the verdict stands starts on it, without timing both counts first
+    # a long call while the verdict stands starts on it, without timing both counts first, and continues the
+    # first call's schedule: the gaps between rechecks go on doubling across the two calls, up to the longest
     m.calls.clear()
-    th.run(n, None, m.part, clock=m.clock)
-    counts = [t for t, _, _ in m.calls]
-    assert counts[: th.RECHECK_PIECES - 1] == [faster] * (th.RECHECK_PIECES - 1)
-    assert counts[th.RECHECK_PIECES - 1] == slower
+    th.run(4 * n, None, m.part, clock=m.clock)
+    second = [t for t, _, _ in m.calls]
+    assert second[0] == faster
+    checks = [k for k, t in enumerate(first + second) if t == slower and k > 1]
+    gaps = [b - a for a, b in itertools.pairwise([1, *checks])]
+    assert gaps == [min(th.RECHECK_PIECES * 2**i, th.RECHECK_MAX_PIECES) for i in range(len(gaps))]
+    assert gaps[-2:] == [th.RECHECK_MAX_PIECES] * 2  # the longest gap is reached and held
     m.now += th.VERDICT_VALID_S + 1.0
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
     assert m.calls == [(2, 0, p)]
+
+
+def test_a_call_that_finds_the_cores_free_ends_the_verdict(busy_two_cores, monkeypatch):
+    """The verdict belongs to the load it was measured under: once a call sees every core free, a short call
+    under a new load takes the run queue's count again, not the old verdict."""
+    m = _Machine({1: 2e-8, 2: 1e-8})
+    p = th.PIECE_SAMPLES
+    th.run(10 * p, None, m.part, clock=m.clock)
+    m.calls.clear()
+    th.run(p, None, m.part, clock=m.clock)
+    assert m.calls == [(2, 0, p)]  # the verdict (two threads) serves a short call
+    monkeypatch.setattr(th, "_running_others", lambda: 0)
+    th.run(p, None, m.part, clock=m.clock)  # the cores are free: two threads, and the verdict ends
+    monkeypatch.setattr(th, "_running_others", lambda: 3)
+    m.calls.clear()
+    th.run(p, None, m.part, clock=m.clock)
+    assert m.calls == [(1, 0, p)]  # the run queue's count, although VERDICT_VALID_S has not passed
+    assert m.now < th.VERDICT_VALID_S
+
+
+def test_a_recheck_due_when_a_call_starts_follows_its_first_piece(busy_two_cores, monkeypatch):
+    """The first piece of a call that starts on a verdict runs on the verdict's count, so that the other count's
+    assumed rate has a piece of this call to be scaled by; a recheck that was due comes second."""
+    monkeypatch.setattr(th, "_verdict", [1, np.inf, 2.0, th.RECHECK_PIECES, th.RECHECK_PIECES - 1])
+    m = _Machine({1: 1.0, 2: 2.0})
+    th.run(4 * th.PIECE_SAMPLES, None, m.part, clock=m.clock)
+    assert [t for t, _, _ in m.calls] == [1, 2, 1, 1]
+    assert th._verdict[0] == 1 and th._verdict[2] == pytest.approx(2.0)
 
 
 def test_more_threads_are_kept_only_when_clearly_faster(busy_eight_cores):

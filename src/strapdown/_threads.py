@@ -31,7 +31,8 @@ pool is touched at all.
    rests on what the call itself gets, not on a few milliseconds' guess.  Before measuring, a call looks at
    the run queue a second time a millisecond later (:func:`_second_look`): a kernel thread that ran for a
    moment is gone by then, a busy process is not.  The verdict serves later calls too short to measure for
-   :data:`VERDICT_VALID_S` seconds, and a long call that starts while it stands begins on it.
+   :data:`VERDICT_VALID_S` seconds, and a long call that starts while it stands begins on it and continues
+   its schedule of rechecks; a call that finds every core free ends it.
 
 Results never depend on the thread count: the kernels split the work into a fixed number of blocks (a
 function of the size alone) and the threads only share out the blocks, so ``threads=1`` and ``threads=8``
@@ -92,14 +93,22 @@ PIECE_MARGIN = 0.95
 #: Pieces after which the count not chosen is timed again (the gap doubles each time it confirms the choice),
 #: so that the choice follows a change of load; the worse count then costs at most that share of a call.
 RECHECK_PIECES = 8
+#: The longest gap between timings of the count not chosen: a change of load is followed within this many
+#: pieces (about a second at 15 ns a sample), while a confirmed choice costs a recheck per 64 pieces.
+RECHECK_MAX_PIECES = 64
 #: Seconds between the two reads of the run queue before a long call is measured in pieces (_second_look).
 SECOND_LOOK_S = 0.001
-#: Seconds a verdict is reused by calls too short to measure (the chunks of a file pipeline).
-VERDICT_VALID_S = 2.0
+#: Seconds a verdict stands after the call that measured it: calls too short to measure (the chunks of a file
+#: pipeline) take its count, and a long call continues its schedule of rechecks instead of timing both counts
+#: again.  The load of a shared machine changes as processes start and end, over seconds to minutes; a long
+#: call still follows a change within RECHECK_MAX_PIECES pieces.
+VERDICT_VALID_S = 10.0
 
-# the threads of the last verdict, the clock time until which it stands, and the other count's time per sample
-# over the verdict's (what a call that starts from the verdict assumes until it times the other count itself)
-_verdict = [1, -math.inf, 1.0]
+# the threads of the last verdict, the clock time until which it stands, the other count's time per sample over
+# the verdict's (what a call that starts from the verdict assumes until it times the other count itself), and
+# the recheck schedule to continue: the gap in pieces and the pieces run on the verdict's count since the last
+# recheck
+_verdict = [1, -math.inf, 1.0, RECHECK_PIECES, 0]
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
 _local = threading.local()
 _layer_ready = False
@@ -245,8 +254,9 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
     useful core free, this is one call with :func:`choose`'s count.  On a machine the run queue calls busy,
     auto mode measures instead of guessing (module notes, item 4): pieces of :data:`PIECE_SAMPLES`, the first
     on :func:`choose`'s count, the second on every core (or the first on the last verdict while it stands),
-    then the faster, the other rechecked at growing gaps; calls shorter than two pieces take the last verdict
-    while it is fresh (:data:`VERDICT_VALID_S`).  The pieces start at multiples of PIECE_SAMPLES, a multiple
+    then the faster, the other rechecked at growing gaps (a call that starts on the verdict continues its
+    gaps); calls shorter than two pieces take the last verdict while it is fresh (:data:`VERDICT_VALID_S`),
+    and a call that finds every core free ends it.  The pieces start at multiples of PIECE_SAMPLES, a multiple
     of the scan's tile, so the result has the same bits as one call, whatever the counts.
 
     Parameters
@@ -260,9 +270,13 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
     clock : callable
         Seconds (for tests).
     """
-    chosen = choose(n, threads)
+    auto = _setting(threads) is None
+    free = free_cores() if auto else None
+    chosen = choose(n, threads, available=free)
+    if auto and free >= _cores():
+        _verdict[1] = -math.inf  # the load that the verdict was measured under has gone
     most = chosen
-    if _setting(threads) is None and chosen < _cores() and n >= 2 * MIN_SAMPLES_PER_THREAD:
+    if auto and chosen < _cores() and n >= 2 * MIN_SAMPLES_PER_THREAD:
         import numba
 
         prepare_layer()
@@ -277,8 +291,8 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
         with claim(_verdict[0] if clock() < _verdict[1] else chosen) as t:
             part(t, 0, n)
         return
-    best, ratio = _measured(n, chosen, most, part, clock)
-    _verdict[:] = [best, clock() + VERDICT_VALID_S, ratio]
+    best, ratio, gap, since = _measured(n, chosen, most, part, clock)
+    _verdict[:] = [best, clock() + VERDICT_VALID_S, ratio, gap, since]
 
 
 def _second_look(n: int, threads, chosen: int) -> int:
@@ -295,33 +309,39 @@ def _second_look(n: int, threads, chosen: int) -> int:
     return max(chosen, choose(n, threads))
 
 
-def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float]:
+def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int, int]:
     """Run n samples in timed pieces on `few` or `many` threads, keeping the faster (:func:`run`).
 
     Each count's rate is the seconds per sample of its pieces, the latest weighted as much as all before it:
     one piece can fall on a bad phase of the scheduler's time slices (the same count took 15 to 40 ns a
     sample from one piece to the next under two busy processes on the 2-core machine), and the rate still
     follows a change of load within a piece or two.  The count not chosen is timed again after
-    :data:`RECHECK_PIECES` pieces, and after twice as many each time it confirms the choice, so that a count
-    that does badly costs less and less of a long call; a change of choice starts the gaps again.  A call
-    that begins while the last verdict stands starts on it and takes the other count's rate from it (as a
-    ratio to its own first piece) instead of timing both first.  A count that the claim could not grant
-    (another Python thread holds the kernels) is timed as the count it got.
+    :data:`RECHECK_PIECES` pieces, and after twice as many each time it confirms the choice (at most
+    :data:`RECHECK_MAX_PIECES`), so that a count that does badly costs less and less; a change of choice
+    starts the gaps again.  A call that begins while the last verdict stands starts on it, takes the other
+    count's rate from it (as a ratio to its own first piece) and continues its schedule of rechecks, so that a
+    stream of long calls times the other count as rarely as one long call would.  That matters beyond the
+    recheck's own piece: on the 2-core VM a piece on two threads beside two busy processes could leave the
+    calling thread sharing a core with one of them afterwards, where it had had a core to itself (the
+    scheduler does not move a running task back), and the one-thread pieces that followed took 22 ns a sample
+    instead of 11.  A count that the claim could not grant (another Python thread holds the kernels) is timed
+    as the count it got.
 
-    Returns the verdict: the faster count, and the other's time per sample over it.
+    Returns the verdict: the faster count, the other's time per sample over it, and the recheck schedule to
+    continue (the gap, and the pieces run on the faster count since the other was last timed).
     """
     fresh = clock() < _verdict[1] and _verdict[0] in (few, many)
     best = _verdict[0] if fresh else few
     rate: dict[int, float] = {}
-    gap = RECHECK_PIECES  # pieces between timings of the count not chosen
-    since = 0  # pieces on `best` since the other count was last timed
-    checked = False  # whether this call has timed the count not chosen (a first timing confirms nothing)
+    # pieces between timings of the count not chosen, and pieces on `best` since the other was last timed
+    gap, since = (int(_verdict[3]), int(_verdict[4])) if fresh else (RECHECK_PIECES, 0)
+    checked = fresh  # whether the other count has been timed (a first timing confirms nothing)
     for k, lo in enumerate(range(0, n, PIECE_SAMPLES)):
         hi = min(lo + PIECE_SAMPLES, n)
         if hi < n and n - hi < PIECE_SAMPLES // 2:
             hi = n  # no short last piece: it would be timed at a different cost per sample
         other = many if best == few else few
-        count = other if (k > 0 and other not in rate) or since >= gap - 1 else best
+        count = other if k > 0 and (other not in rate or since >= gap - 1) else best
         with claim(count) as t:
             start = clock()
             part(t, lo, hi)
@@ -332,7 +352,7 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float]:
         if few in rate and many in rate:
             faster = many if rate[many] < PIECE_MARGIN * rate[few] else few
             if count != best:  # the other count was timed: a confirmation doubles the gap
-                gap = gap * 2 if faster == best and checked else RECHECK_PIECES
+                gap = min(2 * gap, RECHECK_MAX_PIECES) if faster == best and checked else RECHECK_PIECES
                 since, checked = 0, True
             elif faster != best:
                 gap, since = RECHECK_PIECES, 0
@@ -342,7 +362,8 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float]:
         if hi == n:
             break
     other = many if best == few else few
-    return best, (rate[other] / rate[best] if other in rate and rate[best] > 0 else 1.0)
+    ratio = rate[other] / rate[best] if other in rate and rate.get(best, 0.0) > 0 else 1.0
+    return best, ratio, gap, since
 
 
 @contextmanager

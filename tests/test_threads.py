@@ -4,6 +4,7 @@ that do not depend on the thread count.  Decisions only: no elapsed time is meas
 from __future__ import annotations
 
 import itertools
+import math
 
 import numba
 import numpy as np
@@ -157,7 +158,7 @@ def busy_two_cores(monkeypatch):
     monkeypatch.setattr(th, "_cores", lambda: 2)
     monkeypatch.setattr(th, "_running_others", lambda: 3)
     monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
-    monkeypatch.setattr(th, "_verdict", [1, -np.inf, 1.0, th.RECHECK_PIECES, 0])
+    monkeypatch.setattr(th, "_verdict", [1, -np.inf, 1.0, th.RECHECK_PIECES, 0, 0])
 
     @contextmanager
     def grant(t):
@@ -194,15 +195,18 @@ def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, fast
     _pieces_cover(m.calls, n)
     counts = [t for t, _, _ in m.calls]
     assert counts[:2] == [2, 8]  # the run queue's count first, then every core
+    # every core is taken only once it has won WINS_NEEDED timings running, each after a piece on two threads
+    decided = 1 if faster == 2 else 2 * th.WINS_NEEDED - 1
+    assert counts[: decided + 1] == [2, 8] * ((decided + 1) // 2)
     # the faster from then on; the other timed again after RECHECK_PIECES pieces, then after gaps that double
     slower = 2 if faster == 8 else 8
     first = counts
-    checks = [k for k, t in enumerate(first) if t == slower and k > 1]
-    gaps = [b - a for a, b in itertools.pairwise([1, *checks])]
+    checks = [k for k, t in enumerate(first) if t == slower and k > decided]
+    gaps = [b - a for a, b in itertools.pairwise([decided, *checks])]
     assert gaps == [th.RECHECK_PIECES * 2**i for i in range(len(gaps))] and len(checks) >= 2
     # the time is within the rechecks' share of running on the faster count alone
     alone = cost[faster] * n
-    assert m.now <= alone * (1 + 3.0 / th.RECHECK_PIECES) + cost[slower] * p
+    assert m.now <= alone * (1 + 3.0 / th.RECHECK_PIECES) + th.WINS_NEEDED * cost[slower] * p
     # a short call soon after reuses the verdict; once it is stale, the run queue decides again (two threads)
     m.calls.clear()
     th.run(p, None, m.part, clock=m.clock)
@@ -213,8 +217,8 @@ def test_busy_machine_measures_and_keeps_the_faster(busy_eight_cores, cost, fast
     th.run(4 * n, None, m.part, clock=m.clock)
     second = [t for t, _, _ in m.calls]
     assert second[0] == faster
-    checks = [k for k, t in enumerate(first + second) if t == slower and k > 1]
-    gaps = [b - a for a, b in itertools.pairwise([1, *checks])]
+    checks = [k for k, t in enumerate(first + second) if t == slower and k > decided]
+    gaps = [b - a for a, b in itertools.pairwise([decided, *checks])]
     assert gaps == [min(th.RECHECK_PIECES * 2**i, th.RECHECK_MAX_PIECES) for i in range(len(gaps))]
     assert gaps[-2:] == [th.RECHECK_MAX_PIECES] * 2  # the longest gap is reached and held
     m.now += th.VERDICT_VALID_S + 1.0
@@ -244,11 +248,32 @@ def test_a_call_that_finds_the_cores_free_ends_the_verdict(busy_two_cores, monke
 def test_a_recheck_due_when_a_call_starts_follows_its_first_piece(busy_two_cores, monkeypatch):
     """The first piece of a call that starts on a verdict runs on the verdict's count, so that the other count's
     assumed rate has a piece of this call to be scaled by; a recheck that was due comes second."""
-    monkeypatch.setattr(th, "_verdict", [1, np.inf, 2.0, th.RECHECK_PIECES, th.RECHECK_PIECES - 1])
+    monkeypatch.setattr(th, "_verdict", [1, np.inf, 2.0, th.RECHECK_PIECES, th.RECHECK_PIECES - 1, 0])
     m = _Machine({1: 1.0, 2: 2.0})
     th.run(4 * th.PIECE_SAMPLES, None, m.part, clock=m.clock)
     assert [t for t, _, _ in m.calls] == [1, 2, 1, 1]
     assert th._verdict[0] == 1 and th._verdict[2] == pytest.approx(2.0)
+
+
+def test_one_lucky_timing_does_not_move_a_call_to_more_threads(busy_two_cores):
+    """Under contention one piece's time varies 1.5-2x from the next: two threads that are as fast as one on
+    average, but by turns half and one and a half times its time, are timed only as rechecks, and a lucky one
+    is timed again at once instead of being taken."""
+
+    class Noisy(_Machine):
+        def part(self, t, lo, hi):
+            if t == 2:
+                self.cost[2] = 1.5 if self.cost[2] == 0.5 else 0.5
+            super().part(t, lo, hi)
+
+    m = Noisy({1: 1.0, 2: 1.5})  # the first timing of two threads is the lucky one
+    n = 100 * th.PIECE_SAMPLES
+    th.run(n, None, m.part, clock=m.clock)
+    counts = [t for t, _, _ in m.calls]
+    assert counts[:4] == [1, 2, 1, 2]  # a win, timed again after one piece on one thread: a loss
+    assert not any(a == b == 2 for a, b in itertools.pairwise(counts))  # never taken
+    assert counts.count(2) <= 2 * (1 + math.log2(len(counts)))  # the rechecks, at gaps that double
+    assert th._verdict[0] == 1
 
 
 def test_more_threads_are_kept_only_when_clearly_faster(busy_eight_cores):

@@ -24,9 +24,10 @@ pool is touched at all.
    issue 15 two threads beside two busy processes lost 1.2x to one thread over a long call; on a later one
    (another hypervisor) they won 1.4x.  So a long call runs in pieces of :data:`PIECE_SAMPLES`, times each
    piece, and keeps the faster count: the first piece on the run-queue's count, the second on every core,
-   then the faster of the two (more threads only when clearly faster, :data:`PIECE_MARGIN`), with the other
-   count timed again after :data:`RECHECK_PIECES` pieces, then after gaps that double while it stays slower,
-   so that a change of load is followed and a count that does badly costs little.  A piece is several
+   then the faster of the two (more threads only when clearly faster, :data:`PIECE_MARGIN`, in
+   :data:`WINS_NEEDED` timings running, since one piece's time is noisy), with the other count timed again
+   after :data:`RECHECK_PIECES` pieces, then after gaps that double while it stays slower, so that a change
+   of load is followed and a count that does badly costs little.  A piece is several
    scheduler time slices long, and every piece updates its count's rate (:func:`_measured`), so a verdict
    rests on what the call itself gets, not on a few milliseconds' guess.  Before measuring, a call looks at
    the run queue a second time a millisecond later (:func:`_second_look`): a kernel thread that ran for a
@@ -67,8 +68,10 @@ __all__ = [
     "MIN_SAMPLES_PER_THREAD",
     "PIECE_MARGIN",
     "PIECE_SAMPLES",
+    "RECHECK_MAX_PIECES",
     "RECHECK_PIECES",
     "VERDICT_VALID_S",
+    "WINS_NEEDED",
     "choose",
     "claim",
     "free_cores",
@@ -96,6 +99,9 @@ RECHECK_PIECES = 8
 #: The longest gap between timings of the count not chosen: a change of load is followed within this many
 #: pieces (about a second at 15 ns a sample), while a confirmed choice costs a recheck per 64 pieces.
 RECHECK_MAX_PIECES = 64
+#: Timings running that more threads must win, each against the pieces on fewer threads just before it, before
+#: they are taken: one piece's time is too noisy under contention to move on (see _measured).
+WINS_NEEDED = 2
 #: Seconds between the two reads of the run queue before a long call is measured in pieces (_second_look).
 SECOND_LOOK_S = 0.001
 #: Seconds a verdict stands after the call that measured it: calls too short to measure (the chunks of a file
@@ -106,9 +112,9 @@ VERDICT_VALID_S = 10.0
 
 # the threads of the last verdict, the clock time until which it stands, the other count's time per sample over
 # the verdict's (what a call that starts from the verdict assumes until it times the other count itself), and
-# the recheck schedule to continue: the gap in pieces and the pieces run on the verdict's count since the last
-# recheck
-_verdict = [1, -math.inf, 1.0, RECHECK_PIECES, 0]
+# the recheck schedule to continue: the gap in pieces, the pieces run on the verdict's count since the last
+# recheck, and the timings won running by more threads
+_verdict = [1, -math.inf, 1.0, RECHECK_PIECES, 0, 0]
 _LOCK = threading.Lock()  # held while a parallel kernel runs: one at a time per process
 _local = threading.local()
 _layer_ready = False
@@ -291,8 +297,8 @@ def run(n: int, threads, part, *, clock=time.perf_counter) -> None:
         with claim(_verdict[0] if clock() < _verdict[1] else chosen) as t:
             part(t, 0, n)
         return
-    best, ratio, gap, since = _measured(n, chosen, most, part, clock)
-    _verdict[:] = [best, clock() + VERDICT_VALID_S, ratio, gap, since]
+    best, ratio, gap, since, wins = _measured(n, chosen, most, part, clock)
+    _verdict[:] = [best, clock() + VERDICT_VALID_S, ratio, gap, since, wins]
 
 
 def _second_look(n: int, threads, chosen: int) -> int:
@@ -309,39 +315,50 @@ def _second_look(n: int, threads, chosen: int) -> int:
     return max(chosen, choose(n, threads))
 
 
-def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int, int]:
+def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int, int, int]:
     """Run n samples in timed pieces on `few` or `many` threads, keeping the faster (:func:`run`).
 
-    Each count's rate is the seconds per sample of its pieces, the latest weighted as much as all before it:
-    one piece can fall on a bad phase of the scheduler's time slices (the same count took 15 to 40 ns a
-    sample from one piece to the next under two busy processes on the 2-core machine), and the rate still
-    follows a change of load within a piece or two.  The count not chosen is timed again after
-    :data:`RECHECK_PIECES` pieces, and after twice as many each time it confirms the choice (at most
-    :data:`RECHECK_MAX_PIECES`), so that a count that does badly costs less and less; a change of choice
-    starts the gaps again.  A call that begins while the last verdict stands starts on it, takes the other
-    count's rate from it (as a ratio to its own first piece) and continues its schedule of rechecks, so that a
-    stream of long calls times the other count as rarely as one long call would.  That matters beyond the
-    recheck's own piece: on the 2-core VM a piece on two threads beside two busy processes could leave the
-    calling thread sharing a core with one of them afterwards, where it had had a core to itself (the
-    scheduler does not move a running task back), and the one-thread pieces that followed took 22 ns a sample
-    instead of 11.  A count that the claim could not grant (another Python thread holds the kernels) is timed
-    as the count it got.
+    Each count's rate is the seconds per sample of its pieces, the latest weighted as much as all before it.
+    One piece's time says little on its own: under two busy processes on the 2-core VM the same count took 11
+    to 30 ns a sample from one piece to the next, as the scheduler moved the busy processes between the cores.
+    So the two directions are not treated alike:
 
-    Returns the verdict: the faster count, the other's time per sample over it, and the recheck schedule to
-    continue (the gap, and the pieces run on the faster count since the other was last timed).
+    - Fewer threads are taken back as soon as the rate of more threads' own pieces is no longer clearly
+      below theirs (:data:`PIECE_MARGIN`).
+    - More threads are taken only once they have won :data:`WINS_NEEDED` timings running, each piece against
+      the rate of the pieces on fewer threads just before it (the same phase of the load); a win is timed
+      again after one piece.  A single lucky piece used to be enough: over 50 calls beside two busy
+      processes, 39 % of the pieces then ran on two threads, which were no faster there (their pieces took
+      7 % longer on average, and the one-thread pieces right after them 8 % longer than after a one-thread
+      piece), and the calls took 1.24x the one-thread call's time (median of the pairs).  With two wins
+      needed: 13 % of the pieces, and 1.05x.
+
+    The count not chosen is timed again after :data:`RECHECK_PIECES` pieces, and after twice as many each
+    time it confirms the choice (at most :data:`RECHECK_MAX_PIECES`), so that a count that does badly costs
+    less and less; a change of choice starts the gaps again.  A call that begins while the last verdict
+    stands starts on it, takes the other count's rate from it (as a ratio to its own first piece) and
+    continues its schedule of rechecks, so that a stream of long calls times the other count as rarely as one
+    long call would.  A count that the claim could not grant (another Python thread holds the kernels) is
+    timed as the count it got.
+
+    Returns the verdict: the faster count, the other's time per sample over it, and the state to continue
+    from (the gap, the pieces run on the faster count since the other was last timed, the wins running).
     """
     fresh = clock() < _verdict[1] and _verdict[0] in (few, many)
     best = _verdict[0] if fresh else few
     rate: dict[int, float] = {}
-    # pieces between timings of the count not chosen, and pieces on `best` since the other was last timed
-    gap, since = (int(_verdict[3]), int(_verdict[4])) if fresh else (RECHECK_PIECES, 0)
+    # pieces between timings of the count not chosen, pieces on `best` since the other was last timed, and the
+    # timings that more threads have won running (they are taken at WINS_NEEDED)
+    gap, since, wins = (int(_verdict[3]), int(_verdict[4]), int(_verdict[5])) if fresh else (RECHECK_PIECES, 0, 0)
     checked = fresh  # whether the other count has been timed (a first timing confirms nothing)
     for k, lo in enumerate(range(0, n, PIECE_SAMPLES)):
         hi = min(lo + PIECE_SAMPLES, n)
         if hi < n and n - hi < PIECE_SAMPLES // 2:
             hi = n  # no short last piece: it would be timed at a different cost per sample
         other = many if best == few else few
-        count = other if k > 0 and (other not in rate or since >= gap - 1) else best
+        due = 1 if wins else gap - 1  # a win to confirm is timed again after one piece
+        count = other if k > 0 and (other not in rate or since >= due) else best
+        before = rate.get(few)  # fewer threads' rate over the pieces just before this one
         with claim(count) as t:
             start = clock()
             part(t, lo, hi)
@@ -350,20 +367,28 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int
         if k == 0 and fresh and t == best:
             rate.setdefault(other, _verdict[2] * seconds)
         if few in rate and many in rate:
-            faster = many if rate[many] < PIECE_MARGIN * rate[few] else few
-            if count != best:  # the other count was timed: a confirmation doubles the gap
-                gap = min(2 * gap, RECHECK_MAX_PIECES) if faster == best and checked else RECHECK_PIECES
-                since, checked = 0, True
-            elif faster != best:
-                gap, since = RECHECK_PIECES, 0
-            else:
+            if count == best:
                 since += 1
-            best = faster
+                if best == many and rate[many] >= PIECE_MARGIN * rate[few]:
+                    best, gap, since = few, RECHECK_PIECES, 0  # more threads lose their place at once
+            else:  # the other count was timed
+                if best == few:
+                    won = t == many and before is not None and seconds < PIECE_MARGIN * before
+                    wins = wins + 1 if won else 0
+                    if wins >= WINS_NEEDED:
+                        best, gap, wins = many, RECHECK_PIECES, 0
+                    elif not wins:  # a confirmation of fewer threads doubles the gap
+                        gap = min(2 * gap, RECHECK_MAX_PIECES) if checked else RECHECK_PIECES
+                elif rate[many] >= PIECE_MARGIN * rate[few]:
+                    best, gap = few, RECHECK_PIECES
+                else:
+                    gap = min(2 * gap, RECHECK_MAX_PIECES) if checked else RECHECK_PIECES
+                since, checked = 0, True
         if hi == n:
             break
     other = many if best == few else few
     ratio = rate[other] / rate[best] if other in rate and rate.get(best, 0.0) > 0 else 1.0
-    return best, ratio, gap, since
+    return best, ratio, gap, since, wins
 
 
 @contextmanager

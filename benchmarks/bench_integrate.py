@@ -137,6 +137,28 @@ def paired(first, second, pairs):
     return np.array(ratios)
 
 
+def with_pieces(func, samples):
+    """func, counting into `samples` (threads: samples) the pieces the policy runs (strapdown._threads.run)."""
+
+    def call():
+        run = _threads.run
+
+        def counted(n, threads, part, **kw):
+            def piece(t, lo, hi):
+                samples[t] = samples.get(t, 0) + hi - lo
+                part(t, lo, hi)
+
+            return run(n, threads, piece, **kw)
+
+        _threads.run = counted
+        try:
+            return func()
+        finally:
+            _threads.run = run
+
+    return call
+
+
 def median_interval(ratios, level=0.9, resamples=4000):
     """The median of the ratios and its bootstrap interval at `level` (percentile method, fixed seed)."""
     rng = np.random.default_rng(0)
@@ -181,6 +203,7 @@ def main(argv=None):
     )
     results = []
     pair_ratios = {}  # method: default / threads=1 time ratios of paired calls under contention
+    pieces = {}  # method: {threads: samples} the default calls of the pairs ran on
     phases = [("idle", 0)] + ([("busy", args.busy)] if args.busy else [])
     for phase, busy in phases:
         procs = start_busy(busy)
@@ -196,7 +219,8 @@ def main(argv=None):
             if busy and args.pairs:
                 for method in ("exact", "first-order"):
                     auto, one = (calls[f"{method}, scan, threads={t}"] for t in ("auto (default)", "1"))
-                    pair_ratios[method] = paired(auto, one, args.pairs)
+                    pieces[method] = {}
+                    pair_ratios[method] = paired(with_pieces(auto, pieces[method]), one, args.pairs)
         finally:
             stop_busy(procs)
         print(
@@ -270,10 +294,17 @@ def main(argv=None):
                 median, lo, hi = median_interval(ratios)
                 met = median <= 1.05  # at least as fast, to 5 %: well inside the noise of one pair
                 ok = ok and met
-                paired_summary[method] = {"ratios": ratios.tolist(), "median": median, "interval_90": [lo, hi]}
+                share = {t: c / sum(pieces[method].values()) for t, c in sorted(pieces[method].items())}
+                paired_summary[method] = {
+                    "ratios": ratios.tolist(),
+                    "median": median,
+                    "interval_90": [lo, hi],
+                    "share_of_samples_by_threads": share,
+                }
+                shares = ", ".join(f"{100 * f:.0f}% on {t}" for t, f in share.items())
                 line += (
                     f"; median of {len(ratios)} paired ratios {median:.2f} (90% interval {lo:.2f}-{hi:.2f}; "
-                    f"goal <= 1, within 5%): {'met' if met else 'NOT met'}"
+                    f"goal <= 1, within 5%): {'met' if met else 'NOT met'}; the default's samples: {shares} thread(s)"
                 )
             print(line)
     if args.json:

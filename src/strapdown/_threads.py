@@ -327,11 +327,11 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int
       below theirs (:data:`PIECE_MARGIN`).
     - More threads are taken only once they have won :data:`WINS_NEEDED` timings running, each piece against
       the rate of the pieces on fewer threads just before it (the same phase of the load); a win is timed
-      again after one piece.  A single lucky piece used to be enough: over 50 calls beside two busy
-      processes, 39 % of the pieces then ran on two threads, which were no faster there (their pieces took
-      7 % longer on average, and the one-thread pieces right after them 8 % longer than after a one-thread
-      piece), and the calls took 1.24x the one-thread call's time (median of the pairs).  With two wins
-      needed: 13 % of the pieces, and 1.05x.
+      again after one piece, and a run of wins starts more threads' rate afresh.  With a single lucky piece
+      enough, beside two busy processes, where two threads are no faster than one on average but vary more,
+      the default call went to two threads on a lucky piece and stayed while the one-thread rate it was
+      compared with was an unlucky one: bench_integrate's paired calls put it at 1.05 and 1.16 of the
+      one-thread call's time (exact, first order; commit 60eadcd).
 
     The count not chosen is timed again after :data:`RECHECK_PIECES` pieces, and after twice as many each
     time it confirms the choice (at most :data:`RECHECK_MAX_PIECES`), so that a count that does badly costs
@@ -375,6 +375,8 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int
                 if best == few:
                     won = t == many and before is not None and seconds < PIECE_MARGIN * before
                     wins = wins + 1 if won else 0
+                    if wins == 1:
+                        rate[many] = seconds  # a run of wins starts the rate afresh: earlier losses are stale
                     if wins >= WINS_NEEDED:
                         best, gap, wins = many, RECHECK_PIECES, 0
                     elif not wins:  # a confirmation of fewer threads doubles the gap

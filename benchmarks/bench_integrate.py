@@ -1,6 +1,6 @@
 """Gyro integration throughput and precision, with every reference measured in the same run.
 
-    python benchmarks/bench_integrate.py [--n 10000000] [--repeat 9] [--busy 2] [--pairs 60] [--anchor-n 0]
+    python benchmarks/bench_integrate.py [--n 10000000] [--repeat 9] [--busy 2] [--pairs 100] [--anchor-n 0]
                                          [--json out.json]
 
 Throughput: "exact" and "first-order" on n samples (random rates, dt = 10 ms), with the blocked scan (the
@@ -173,7 +173,7 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=9)
     ap.add_argument("--anchor-n", type=int, default=100_000, help="samples for the anchors (0: none)")
     ap.add_argument("--busy", type=int, default=2, help="busy processes in the contention phase (0: none)")
-    ap.add_argument("--pairs", type=int, default=60, help="paired calls, default vs threads=1, under contention")
+    ap.add_argument("--pairs", type=int, default=100, help="paired calls, default vs threads=1, under contention")
     ap.add_argument("--goal", type=float, default=2.5, help="goal, idle: integrate time / copy time")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
@@ -214,8 +214,11 @@ def main(argv=None):
                 lambda: np.copyto(out_buf, out_src), args.repeat
             )
             t_alloc = best_time(lambda: np.copy(gyro), args.repeat) + best_time(lambda: np.copy(out_src), args.repeat)
-            times = interleaved(calls, args.repeat)
-            verdict = _threads._verdict[0]
+            spread = {}  # threads: samples of the interleaved default calls
+            timed = {name: with_pieces(f, spread) if "auto" in name else f for name, f in calls.items()}
+            times = interleaved(timed, args.repeat)
+            standing = time.perf_counter() < _threads._verdict[1]  # a measured verdict, not the initial value
+            verdict = f"{_threads._verdict[0]} thread(s)" if standing else "none standing"
             if busy and args.pairs:
                 for method in ("exact", "first-order"):
                     auto, one = (calls[f"{method}, scan, threads={t}"] for t in ("auto (default)", "1"))
@@ -225,8 +228,12 @@ def main(argv=None):
             stop_busy(procs)
         print(
             f"\n{phase}: {busy} busy processes started by the benchmark; load average {load[0]:.2f} {load[1]:.2f} "
-            f"{load[2]:.2f} at the start; the run queue gives {chosen} thread(s) for n = {n:,}; last measured verdict "
-            f"{verdict} thread(s)"
+            f"{load[2]:.2f} at the start; the run queue gives {chosen} thread(s) for n = {n:,}; verdict at the end: "
+            f"{verdict}; the default calls ran "
+            + ", ".join(
+                f"{100 * c / sum(spread.values()):.0f}% of their samples on {t}" for t, c in sorted(spread.items())
+            )
+            + " thread(s)"
         )
         print(f"{'':44s} {'time':>10s} {'M samples/s':>12s} {'/ copy':>8s} {'median':>9s}")
         rows = [

@@ -44,6 +44,7 @@ lint: $(VENV)/.stamp-test
 bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/bench_representations.py
 	$(BIN)/python benchmarks/bench_integrate.py
+	$(BIN)/python benchmarks/bench_thread_policy.py
 	$(BIN)/python benchmarks/bench_wahba.py
 	$(BIN)/python benchmarks/bench_estimators.py
 	$(BIN)/python benchmarks/bench_attitude.py

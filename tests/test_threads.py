@@ -318,6 +318,22 @@ def test_a_moment_of_load_is_looked_at_twice(busy_two_cores, monkeypatch):
     assert m.calls == [(2, 0, n)]
 
 
+def test_the_second_look_keeps_the_core(busy_two_cores, monkeypatch):
+    """The pause before the second look does not sleep: a sleeping thread on a busy machine hands its core to
+    the busy processes (module notes, _second_look)."""
+    import time
+
+    def no_sleep(seconds):
+        raise AssertionError(f"slept {seconds} s")
+
+    monkeypatch.setattr(time, "sleep", no_sleep)
+    reads = []
+    monkeypatch.setattr(th, "_running_others", lambda: reads.append(1) or 3)
+    m = _Machine({1: 1.0, 2: 1.0})
+    th.run(4 * th.PIECE_SAMPLES, None, m.part, clock=m.clock)
+    assert len(reads) == 2  # looked twice, without sleeping in between
+
+
 def test_no_short_last_piece(busy_two_cores):
     m = _Machine({1: 1.0, 2: 1.0})
     p = th.PIECE_SAMPLES

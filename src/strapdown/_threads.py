@@ -310,8 +310,16 @@ def _second_look(n: int, threads, chosen: int) -> int:
     was; a kernel worker is the likely one (freeing memory on this VM hands it back to the host).  Only calls
     long enough to measure look twice (2 x PIECE_SAMPLES samples take tens of milliseconds, against the pause
     of one millisecond).
+
+    The pause spins instead of sleeping.  A thread that sleeps on a busy machine gives up its core: the
+    scheduler fills it with one of the busy processes, and the thread wakes up to share a core where it may
+    have had one to itself.  Beside two busy processes on the 2-core VM, one thread in one call after a sleep
+    of a millisecond took 1.17x the time of the same call without it (median of 100 pairs,
+    ``benchmarks/bench_thread_policy.py``), while cutting the same call into timed pieces cost nothing.
     """
-    time.sleep(SECOND_LOOK_S)
+    end = time.perf_counter() + SECOND_LOOK_S
+    while time.perf_counter() < end:
+        pass
     return max(chosen, choose(n, threads))
 
 

@@ -314,8 +314,9 @@ def _second_look(n: int, threads, chosen: int) -> int:
     The pause spins instead of sleeping.  A thread that sleeps on a busy machine gives up its core: the
     scheduler fills it with one of the busy processes, and the thread wakes up to share a core where it may
     have had one to itself.  Beside two busy processes on the 2-core VM, one thread in one call after a sleep
-    of a millisecond took 1.17x the time of the same call without it (median of 100 pairs,
-    ``benchmarks/bench_thread_policy.py``), while cutting the same call into timed pieces cost nothing.
+    of a millisecond took 1.08x the time of the same call without it (median of 100 pairs, 90 % interval
+    1.01-1.13, ``benchmarks/bench_thread_policy.py``; 1.17x in a first trial), after a spin 1.03x
+    (0.98-1.12), and cut into the timed pieces 0.95x (0.91-1.00).
     """
     end = time.perf_counter() + SECOND_LOOK_S
     while time.perf_counter() < end:

@@ -107,8 +107,8 @@ def stop_busy(procs):
 def interleaved(calls, repeat):
     """Every time of each call, the calls taken in turn `repeat` times, after one round that is not timed.
 
-    The round before touches what the phase will use: on the 2-core VM the first 10^7-sample call after the
-    start took 1.6 s against 0.13 s (the output's fresh memory, which the host backs on first touch).
+    The round before touches what the phase will use: in a trial on the 2-core VM the first 10^7-sample call
+    of a phase took 1.6 s against 0.13 s for the next (fresh memory, which the host backs on first touch).
     """
     for func in calls.values():
         func()
@@ -122,9 +122,9 @@ def interleaved(calls, repeat):
 def paired(first, second, pairs):
     """Time ratios first / second of `pairs` pairs of calls taken back to back, the order alternating.
 
-    Under contention one call differs from the next by 1.5-2x (the scheduler moves the busy processes
-    between the cores every 100 ms or so, and a call's time depends on whether it had a core to itself), so
-    a comparison of two best-of-9 times is a coin toss at the 5 % level.  The two calls of a pair meet the
+    Under contention one call differs from the next by 1.5-2x (a one-thread call's time depends on whether
+    the scheduler gave it a core to itself or one shared with a busy process, and that changes during a
+    call), so a comparison of two best-of-9 times is a coin toss at the 5 % level.  The two calls of a pair meet the
     same load, and the median of the ratios is robust to the pair that one of them stalls.
     """
     ratios = []

@@ -328,8 +328,9 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int
     """Run n samples in timed pieces on `few` or `many` threads, keeping the faster (:func:`run`).
 
     Each count's rate is the seconds per sample of its pieces, the latest weighted as much as all before it.
-    One piece's time says little on its own: under two busy processes on the 2-core VM the same count took 11
-    to 30 ns a sample from one piece to the next, as the scheduler moved the busy processes between the cores.
+    One piece's time says little on its own: in a trace of the pieces under two busy processes on the 2-core
+    VM the same count took 11 to 30 ns a sample from one piece to the next, as the scheduler moved the busy
+    processes between the cores.
     So the two directions are not treated alike:
 
     - Fewer threads are taken back as soon as the rate of more threads' own pieces is no longer clearly

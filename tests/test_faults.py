@@ -50,13 +50,15 @@ def spawn():
     started = []
 
     def run(args, **kw):
-        # A suite started under nohup ignores SIGHUP, and children inherit that (the program rightly keeps an
-        # inherited "ignore"): the child starts with the default disposition, as from a terminal.
-        previous = signal.signal(signal.SIGHUP, signal.SIG_DFL)
+        # A suite started under nohup ignores SIGHUP, and one started as a background job of a script ignores
+        # SIGINT; children inherit that (the program, like Python itself, rightly keeps an inherited "ignore"):
+        # the child starts with the default dispositions, as from a terminal.
+        previous = {sig: signal.signal(sig, signal.SIG_DFL) for sig in (signal.SIGHUP, signal.SIGINT)}
         try:
             proc = subprocess.Popen(args, start_new_session=True, stderr=subprocess.PIPE, **kw)
         finally:
-            signal.signal(signal.SIGHUP, previous)
+            for sig, handler in previous.items():
+                signal.signal(sig, handler)
         started.append(proc)
         return proc
 

@@ -33,13 +33,8 @@ from strapdown import _threads, integrate
 
 
 def _one_thread_in_pieces(n, threads, part, **kw):
-    for lo in range(0, n, _threads.PIECE_SAMPLES):
-        hi = min(lo + _threads.PIECE_SAMPLES, n)
-        if hi < n and n - hi < _threads.PIECE_SAMPLES // 2:
-            hi = n
+    for lo, hi in _threads._pieces(n):
         part(1, lo, hi)
-        if hi == n:
-            break
 
 
 def _after(pause):
@@ -50,17 +45,11 @@ def _after(pause):
     return run
 
 
-def _spin():
-    end = time.perf_counter() + _threads.SECOND_LOOK_S
-    while time.perf_counter() < end:
-        pass
-
-
 VARIANTS = {
     "default": None,
     "pieces": _one_thread_in_pieces,
     "sleep": _after(lambda: time.sleep(_threads.SECOND_LOOK_S)),
-    "spin": _after(_spin),
+    "spin": _after(lambda: _threads._pause(_threads.SECOND_LOOK_S)),
     "two": "two",
     "same": "same",
 }

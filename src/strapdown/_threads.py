@@ -318,10 +318,29 @@ def _second_look(n: int, threads, chosen: int) -> int:
     1.01-1.13, ``benchmarks/bench_thread_policy.py``; 1.17x in a first trial), after a spin 1.03x
     (0.98-1.12), and cut into the timed pieces 0.95x (0.91-1.00).
     """
-    end = time.perf_counter() + SECOND_LOOK_S
+    _pause(SECOND_LOOK_S)
+    return max(chosen, choose(n, threads))
+
+
+def _pause(seconds: float) -> None:
+    """Wait `seconds` on this core, spinning: a sleep would hand the core to a busy process (_second_look)."""
+    end = time.perf_counter() + seconds
     while time.perf_counter() < end:
         pass
-    return max(chosen, choose(n, threads))
+
+
+def _pieces(n: int):
+    """The timed pieces of n samples as (lo, hi), each starting at a multiple of PIECE_SAMPLES.
+
+    A short last piece joins the one before: it would be timed at a different cost per sample.
+    """
+    lo = 0
+    while lo < n:
+        hi = min(lo + PIECE_SAMPLES, n)
+        if hi < n and n - hi < PIECE_SAMPLES // 2:
+            hi = n
+        yield lo, hi
+        lo = hi
 
 
 def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int, int, int]:
@@ -361,10 +380,7 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int
     # timings that more threads have won running (they are taken at WINS_NEEDED)
     gap, since, wins = (int(_verdict[3]), int(_verdict[4]), int(_verdict[5])) if fresh else (RECHECK_PIECES, 0, 0)
     checked = fresh  # whether the other count has been timed (a first timing confirms nothing)
-    for k, lo in enumerate(range(0, n, PIECE_SAMPLES)):
-        hi = min(lo + PIECE_SAMPLES, n)
-        if hi < n and n - hi < PIECE_SAMPLES // 2:
-            hi = n  # no short last piece: it would be timed at a different cost per sample
+    for k, (lo, hi) in enumerate(_pieces(n)):
         other = many if best == few else few
         due = 1 if wins else gap - 1  # a win to confirm is timed again after one piece
         count = other if k > 0 and (other not in rate or since >= due) else best
@@ -396,8 +412,6 @@ def _measured(n: int, few: int, many: int, part, clock) -> tuple[int, float, int
                 else:
                     gap = min(2 * gap, RECHECK_MAX_PIECES) if checked else RECHECK_PIECES
                 since, checked = 0, True
-        if hi == n:
-            break
     other = many if best == few else few
     ratio = rate[other] / rate[best] if other in rate and rate.get(best, 0.0) > 0 else 1.0
     return best, ratio, gap, since, wins

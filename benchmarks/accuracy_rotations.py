@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 from scipy.spatial.transform import RotationSpline as ScipySpline
 
 from strapdown import angle_between, integrate
-from strapdown.interpolate import RotationSpline
+from strapdown.propagate.interpolate import RotationSpline
 from strapdown.simulate import RandomMotion, sample_recorded
 
 

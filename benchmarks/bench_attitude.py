@@ -38,7 +38,7 @@ import numba
 import numpy as np
 
 import strapdown
-from strapdown.evaluate import evaluate
+from strapdown.evaluate.evaluation import evaluate
 from strapdown.fusion import AttitudeParams, TiltParams, attitude, attitude_offline
 
 BROAD = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "broad"
@@ -248,7 +248,7 @@ def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
 
 def simulated() -> dict:
     from strapdown.fusion import FLAG_MAG_REJECTED
-    from strapdown.metrics import attitude_errors
+    from strapdown.evaluate.metrics import attitude_errors
     from strapdown.simulate import (
         ImuModel,
         MagneticDisturbance,
@@ -342,7 +342,7 @@ def irregular_inputs(trial, seed: int, fraction: float = 0.1):
 def irregular(trials) -> dict:
     """BROAD with irregular sampling: each variant's mean RMSE against the regular record's (issue 13)."""
     from strapdown.fusion import tilt
-    from strapdown.metrics import rmse_errors
+    from strapdown.evaluate.metrics import rmse_errors
 
     cols = ("ours 9D total", "ours 6D incl.", "offline 9D total", "offline incl.", "Tilt 6D incl.")
     table: dict = {}
@@ -452,7 +452,7 @@ def main(argv=None):
     if args.skip_surface:
         sections.discard("surface")
     if (args.broad / "data_mat").is_dir():
-        from strapdown.broad import load_trials
+        from strapdown.evaluate.broad import load_trials
 
         trials = load_trials(args.broad / "data_mat")
         if args.trials:

@@ -135,9 +135,9 @@ def first_rotations(mag, moving, fit_seconds):
 
 
 def broad(folder: Path, fit_seconds: float) -> list[dict]:
-    from strapdown.broad import load_trials
+    from strapdown.evaluate.broad import load_trials
     from strapdown.fusion import attitude
-    from strapdown.metrics import rmse_errors
+    from strapdown.evaluate.metrics import rmse_errors
 
     rows = []
     for trial in load_trials(folder):

@@ -12,7 +12,7 @@ is shared and noisy: read the figures as medians next to each other, not as abso
 Warm cache: each checkout runs the command once, unmeasured, to fill its numba cache (``cache=True`` writes it
 beside the sources) and Python's bytecode cache, then ``--runs`` times.  ``--cold`` also times one call of each
 with an empty numba cache (``NUMBA_CACHE_DIR`` set to a fresh folder): what the first call after a fresh install
-costs, when every kernel the command touches is compiled; and then ``python -m strapdown.warmup`` on another
+costs, when every kernel the command touches is compiled; and then ``python -m strapdown.apps.warmup`` on another
 empty cache followed by one call (the documented warm-up step, and what the call costs after it).
 
 Bytecode: ``pip install`` compiles every module to ``.pyc`` and Python writes them for a source checkout at
@@ -145,7 +145,7 @@ def main() -> None:
                     env = {"NUMBA_CACHE_DIR": cache, "NUMBA_DEBUG_CACHE": "1"}
                     cold[src] = timed(src, calls["estimate"], env, output=log)
                 with tempfile.TemporaryDirectory() as cache:
-                    step = timed(src, ["-m", "strapdown.warmup", "--quiet"], {"NUMBA_CACHE_DIR": cache})
+                    step = timed(src, ["-m", "strapdown.apps.warmup", "--quiet"], {"NUMBA_CACHE_DIR": cache})
                     env = {"NUMBA_CACHE_DIR": cache, "NUMBA_DEBUG_CACHE": "1"}
                     warmed[src] = (step, timed(src, calls["estimate"], env, output=log))
                 compiled[src] = [text.count("data saved") for text in log]  # cold, after the warm-up
@@ -162,7 +162,7 @@ def main() -> None:
             step, after = warmed[src]
             for name, (w, c), what in (
                 ("cold", cold[src], f"estimate, empty numba cache: {compiled[src][0]} kernels compiled"),
-                ("warmup", step, "python -m strapdown.warmup, empty numba cache"),
+                ("warmup", step, "python -m strapdown.apps.warmup, empty numba cache"),
                 ("after it", after, f"estimate after it: {compiled[src][1]} kernels compiled"),
             ):
                 print(f"{src[-48:]:48} {name:9} {w:8.3f} {'':6} {'':6} {c:8.3f}   ({what})")

@@ -6,7 +6,7 @@ Each figure is one new Python process with ``NUMBA_CACHE_DIR`` pointing at a fol
 "cold" process finds no cache (as after ``pip install``) and the "warm" ones find what the cold one left.  Per
 process: the time of ``import strapdown`` and of the first call of each of ``integrate`` on 10^3 samples (the
 sequential loop), ``integrate`` on 10^6 samples (the scan, threads chosen by the policy) and ``as_euler`` on
-10^3 quaternions, each in float64.  Then ``python -m strapdown.warmup`` on another empty cache (what a warm-up
+10^3 quaternions, each in float64.  Then ``python -m strapdown.apps.warmup`` on another empty cache (what a warm-up
 at install costs) and the same first calls after it.  The machine may be shared; the load average is printed.
 """
 
@@ -67,17 +67,17 @@ def main(argv=None) -> int:
         warmed = os.path.join(root, "warmed")
         t0 = time.perf_counter()
         subprocess.run(
-            [sys.executable, "-m", "strapdown.warmup", "--quiet"],
+            [sys.executable, "-m", "strapdown.apps.warmup", "--quiet"],
             env=dict(os.environ, NUMBA_CACHE_DIR=warmed),
             check=True,
         )
         warmup_seconds = time.perf_counter() - t0
-        runs["after python -m strapdown.warmup"] = child(warmed)
+        runs["after python -m strapdown.apps.warmup"] = child(warmed)
     names = list(next(iter(runs.values())))
     print(f"\n{'first call in a new process (s)':34s}" + "".join(f"{k:>34s}" for k in runs))
     for name in names:
         print(f"{name:34s}" + "".join(f"{r[name]:34.3f}" for r in runs.values()))
-    print(f"\npython -m strapdown.warmup on an empty cache: {warmup_seconds:.1f} s")
+    print(f"\npython -m strapdown.apps.warmup on an empty cache: {warmup_seconds:.1f} s")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump({"runs": runs, "warmup_seconds": warmup_seconds, "load": os.getloadavg()}, fh, indent=2)

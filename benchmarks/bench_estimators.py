@@ -28,7 +28,7 @@ import numpy as np
 
 import strapdown
 from _timing import best_time
-from strapdown.evaluate import evaluate
+from strapdown.evaluate.evaluation import evaluate
 from strapdown.fusion import TiltParams, complementary, madgwick, mahony, tilt
 
 BROAD = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "broad"
@@ -113,7 +113,7 @@ def broad_throughput(trials, repeat: int) -> dict:
 
 
 def broad_results(folder: Path, repeat: int) -> dict:
-    from strapdown.broad import load_reference_results, load_trials
+    from strapdown.evaluate.broad import load_reference_results, load_trials
 
     trials = load_trials(folder / "data_mat")
     out = {"throughput": broad_throughput(trials, repeat)}
@@ -176,8 +176,8 @@ def broad_results(folder: Path, repeat: int) -> dict:
 
 def bias_study() -> dict:
     from strapdown.fusion import FLAG_REST
-    from strapdown.metrics import attitude_errors
-    from strapdown.quaternion import rotate
+    from strapdown.evaluate.metrics import attitude_errors
+    from strapdown.rotations.quaternion import rotate
     from strapdown.simulate import ImuModel, RockingPlatform, TriadModel, sample
 
     bias = np.radians(1.0)

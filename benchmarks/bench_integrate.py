@@ -4,7 +4,7 @@
                                          [--json out.json]
 
 Throughput: "exact" and "first-order" on n samples (random rates, dt = 10 ms), with the blocked scan (the
-default for long single-body inputs) on the threads the policy chooses (``threads="auto"``, strapdown._threads),
+default for long single-body inputs) on the threads the policy chooses (``threads="auto"``, strapdown._support.threads),
 on one thread and on every core (forced), and with the sequential loop.  The reference is the memory traffic an
 ideal integrator cannot avoid: np.copyto of an array of the input's bytes plus np.copyto of an array of the
 output's bytes, timed here; the ratio is integrate time / copy time.  The copies write into arrays that exist
@@ -21,7 +21,7 @@ is judged on the best times, references and calls alike.
 Contention: the same calls again while ``--busy`` processes started here spin on the same cores (pure Python
 ``while True``, pinned to this process's CPU set).  The claim: the default call is at least as fast as the
 one-thread call under the same load (the default takes its thread count from the run queue and, when that
-says busy, runs in timed pieces and keeps the faster of that count and every core: strapdown._threads.run).
+says busy, runs in timed pieces and keeps the faster of that count and every core: strapdown._support.threads.run).
 The timings of one phase are interleaved (call A, call B, call A, ...), so that a change of the machine's
 load during the phase hits both alike.  Under that load one call differs from the next by 1.5-2x, so two
 best-of-9 times cannot tell 5 % apart; the claim is judged on ``--pairs`` pairs of calls (default, threads=1)
@@ -49,9 +49,10 @@ import numpy as np
 
 import strapdown
 from _timing import best_time
-from strapdown import _threads, integrate
+from strapdown import integrate
+from strapdown._support import threads as _threads
 from strapdown import quaternion as quat
-from strapdown._threads import choose
+from strapdown._support.threads import choose
 
 
 def closed_form(q0, omega, t):
@@ -138,7 +139,7 @@ def paired(first, second, pairs):
 
 
 def with_pieces(func, samples):
-    """func, counting into `samples` (threads: samples) the pieces the policy runs (strapdown._threads.run)."""
+    """func, counting into `samples` (threads: samples) the pieces the policy runs (strapdown._support.threads.run)."""
 
     def call():
         run = _threads.run

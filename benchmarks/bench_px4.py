@@ -27,8 +27,8 @@ import numpy as np
 
 from strapdown.fusion import AttitudeEstimator
 from strapdown.io import ImuColumns, read_imu, read_reference
-from strapdown.metrics import attitude_errors, error_quaternion
-from strapdown.quaternion import conjugate, multiply
+from strapdown.evaluate.metrics import attitude_errors, error_quaternion
+from strapdown.rotations.quaternion import conjugate, multiply
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -41,7 +41,7 @@ from strapdown import (
     multiply,
     quaternion,
 )
-from strapdown.interpolate import RotationSpline
+from strapdown.propagate.interpolate import RotationSpline
 
 AXES = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 1.0]])  # n1 ⊥ n2 ⊥ n3, n1·n3 ≠ 0
 

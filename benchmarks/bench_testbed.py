@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from strapdown.fusion import TiltParams, attitude, attitude_offline, tilt
-from strapdown.metrics import attitude_errors
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.simulate import (
     ClockModel,
     ConstantRotation,
@@ -103,7 +103,7 @@ class Pendulum(Trajectory):
         _, theta, _, psi = self._angles(t)
         qz = np.column_stack([np.cos(psi / 2), 0 * psi, 0 * psi, np.sin(psi / 2)])
         qx = np.column_stack([np.cos(theta / 2), np.sin(theta / 2), 0 * theta, 0 * theta])
-        from strapdown.quaternion import multiply
+        from strapdown.rotations.quaternion import multiply
 
         return multiply(qz, qx)
 

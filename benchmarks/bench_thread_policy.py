@@ -5,7 +5,7 @@
 Under ``--busy`` spinning processes on the same cores (as in bench_integrate.py), ``integrate(method="exact")``
 on n samples, each variant paired with ``threads=1``: the two calls back to back, the order alternating, and
 the median of the pairs' time ratios with a bootstrap 90 % interval (below 1: the variant is faster).  The
-variants take apart what the default call does beyond one thread in one call (strapdown._threads.run):
+variants take apart what the default call does beyond one thread in one call (strapdown._support.threads.run):
 
 - ``default``: the policy as shipped;
 - ``pieces``: one thread, cut into the policy's timed pieces (PIECE_SAMPLES), without reading the run queue;
@@ -29,7 +29,8 @@ import numpy as np
 
 import strapdown
 from bench_integrate import median_interval, paired, start_busy, stop_busy
-from strapdown import _threads, integrate
+from strapdown import integrate
+from strapdown._support import threads as _threads
 
 
 def _one_thread_in_pieces(n, threads, part, **kw):
@@ -56,7 +57,7 @@ VARIANTS = {
 
 
 def variant_call(name, gyro, dt):
-    """The variant's integrate call (strapdown._threads.run replaced for that call only)."""
+    """The variant's integrate call (strapdown._support.threads.run replaced for that call only)."""
     run = VARIANTS[name]
     if run is None:
         return lambda: integrate(gyro, dt)

@@ -26,7 +26,7 @@ from scipy.spatial.transform import Rotation
 
 import strapdown
 from _timing import best_time
-from strapdown.wahba import davenport, olae, quest, triad
+from strapdown.rotations.wahba import davenport, olae, quest, triad
 
 
 def first_call(func):

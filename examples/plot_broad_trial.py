@@ -10,12 +10,12 @@ where a 9D filter must stop trusting its magnetometer.
 Four 9D estimators run on the same readings with their default parameters: the
 :class:`~strapdown.fusion.AttitudeEstimator`, its offline smoother :func:`~strapdown.fusion.attitude_offline`,
 :class:`~strapdown.fusion.Madgwick` and :class:`~strapdown.fusion.Mahony`.  The figure shows the Euler angles
-against the reference, and the total error (BROAD's measure, :func:`strapdown.metrics.attitude_errors`) over
+against the reference, and the total error (BROAD's measure, :func:`strapdown.evaluate.metrics.attitude_errors`) over
 time, with the AttitudeEstimator's rest and magnetic-disturbance flags shaded.
 
 BROAD lives beside the repository (``../shared/data/broad``, or set ``STRAPDOWN_BROAD`` to its folder).  When it
 is absent the example runs on a simulated recording of the same kind instead (turns and rests with a magnet
-passing, from :func:`strapdown.demo.turns_and_rests`), so that it always draws its figure.
+passing, from :func:`strapdown.apps.demo.turns_and_rests`), so that it always draws its figure.
 """
 
 import os
@@ -25,8 +25,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from strapdown.fusion import FLAG_MAG_REJECTED, FLAG_REST, AttitudeEstimator, Madgwick, Mahony, attitude_offline
-from strapdown.io.plots import angles_for_display, line_styles
-from strapdown.metrics import attitude_errors, rmse
+from strapdown.evaluate.figures import angles_for_display, line_styles
+from strapdown.evaluate.metrics import attitude_errors, rmse
 
 try:
     HERE = Path(__file__).resolve().parent
@@ -38,7 +38,7 @@ TRIAL = BROAD / "data_mat" / "29_disturbed_stationary_magnet_B.mat"
 
 def simulated_trial():
     """A hand-held sensor turned every way and put down between the turns, a magnet passing: the same kind."""
-    from strapdown.demo import turns_and_rests
+    from strapdown.apps.demo import turns_and_rests
     from strapdown.simulate import ImuModel, MagneticDisturbance, MagneticField, TriadModel, sample
 
     consumer = ImuModel.consumer_mems()
@@ -59,7 +59,7 @@ def simulated_trial():
 
 
 if TRIAL.exists():
-    from strapdown.broad import load_trial
+    from strapdown.evaluate.broad import load_trial
 
     trial = load_trial(TRIAL)
     name, gyr, acc, mag, truth, movement, rate = (

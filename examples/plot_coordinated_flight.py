@@ -19,8 +19,8 @@ import numpy as np
 
 import strapdown as sd
 from strapdown.fusion import AttitudeEstimator, Madgwick, TiltEstimator
-from strapdown.io.plots import line_styles
-from strapdown.metrics import attitude_errors
+from strapdown.evaluate.figures import line_styles
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.simulate import ImuModel, aerobatic_show, sample
 
 show = aerobatic_show()

@@ -5,7 +5,7 @@ Wahba's problem: the attitude covariance against a Monte Carlo cloud
 Three known directions within 30° of one another (say three stars in one field of view) are measured in the
 body frame with a small random error: each measured direction is the true one turned by a random rotation
 perpendicular to it, σ = 0.5° about each of the two perpendicular axes (Shuster's QUEST measurement model).
-:func:`strapdown.wahba.davenport` solves 4000 such epochs at once, and with ``return_covariance=True`` it also
+:func:`strapdown.rotations.wahba.davenport` solves 4000 such epochs at once, and with ``return_covariance=True`` it also
 returns Shuster's covariance of the attitude error ``δθ = as_rotvec(q_est* ⊗ q_true)`` (body frame):
 ``P = σ² (Σ (I - b bᵀ))⁻¹`` for equal weights.
 

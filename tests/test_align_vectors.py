@@ -6,7 +6,7 @@ from scipy.spatial.transform import Rotation
 
 from conftest import random_quaternions, rotation_angle
 from strapdown import Attitude
-from strapdown.wahba import align_vectors
+from strapdown.rotations.wahba import align_vectors
 
 
 def scipy_align(a, b, weights=None):

@@ -221,7 +221,7 @@ def test_power_matches_scipy_and_needs_matching_frames(rng):
 
 def test_array_conversion_is_zero_copy_and_arithmetic_is_refused(rng):
     from strapdown import as_euler
-    from strapdown.interpolate import RotationSpline
+    from strapdown.propagate.interpolate import RotationSpline
 
     a = Attitude(random_quaternions(8, rng), "NED", "FRD")
     assert np.shares_memory(np.asarray(a), a.q)

@@ -5,7 +5,7 @@ import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
 from conftest import random_quaternions, rotation_angle
-from strapdown.average import average_two, chordal_distance, geodesic_distance, mean
+from strapdown.rotations.average import average_two, chordal_distance, geodesic_distance, mean
 
 
 def scipy_mean(q, weights=None):

@@ -9,7 +9,7 @@ from click.testing import CliRunner
 
 import strapdown as sd
 import strapdown.fusion  # sd.fusion below: a subpackage is an attribute once imported
-from strapdown.batch import Job, expand, integrate_split, run_batch
+from strapdown.apps.batch import Job, expand, integrate_split, run_batch
 from strapdown.io import ImuColumns, integrate_file, read_table, write_table
 
 QUAT = ["qw", "qx", "qy", "qz"]
@@ -171,7 +171,7 @@ def _gyro_log(path, t, scale=0.5):
 
 
 def test_split_refuses_a_default_method_it_cannot_split(tmp_path):
-    from strapdown.batch import SPLIT_METHODS
+    from strapdown.apps.batch import SPLIT_METHODS
 
     path, _ = _gyro_log(tmp_path / "inc.parquet", np.arange(2000) * 0.01, scale=0.005)
     # plain integrate of increments defaults to coning2, which reads sample pairs across a cut
@@ -180,7 +180,7 @@ def test_split_refuses_a_default_method_it_cannot_split(tmp_path):
         integrate_split(path, tmp_path / "out.parquet", parts=4, workers=1, input="increment")
     assert all(m in str(err.value) for m in SPLIT_METHODS)
     assert not (tmp_path / "out.parquet").exists()
-    from strapdown.batch import check_split
+    from strapdown.apps.batch import check_split
 
     for method, kind in ((None, "increment"), ("coning2", "rate"), ("rk4", "average")):
         with pytest.raises(ValueError, match="method"):
@@ -217,7 +217,7 @@ def test_split_checks_time_across_part_boundaries_as_integrate_does(tmp_path, na
 
 
 def test_clashing_outputs_are_refused_before_anything_runs(tmp_path):
-    from strapdown.batch import batch_outputs
+    from strapdown.apps.batch import batch_outputs
 
     t = np.arange(200) * 0.01
     for suffix in (".csv", ".h5", ".mat"):

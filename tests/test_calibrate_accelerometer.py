@@ -93,7 +93,7 @@ def test_rest_finder_on_simulated_rests():
 def test_rest_finder_on_broad_breaks():
     """BROAD's trials with breaks: every rest found lies in a break (movement == 0), every break of 5 s or more
     holds a rest, and the accelerometer fit then refuses (the breaks are all on one face) naming the missing faces."""
-    from strapdown.broad import load_trial
+    from strapdown.evaluate.broad import load_trial
 
     for path in sorted(DATA.glob("*with_breaks*.mat")):
         trial = load_trial(path)

@@ -9,7 +9,7 @@ from click.testing import CliRunner
 
 from strapdown.cli import _build
 from strapdown.io import read_metadata, read_table, write_table
-from strapdown.metrics import rmse_errors
+from strapdown.evaluate.metrics import rmse_errors
 from strapdown.simulate import ImuModel, MagneticField, RandomMotion, sample
 from strapdown.simulate.imu import TriadModel
 

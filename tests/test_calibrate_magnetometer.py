@@ -146,7 +146,7 @@ def test_nan_rows_skipped_json_round_trip_and_float32(tmp_path):
     with pytest.raises(ValueError, match=r"twice.json holds two magnetometer calibrations \(entries 0 and 1\)"):
         load(tmp_path / "twice.json")
     # the same rule where calibrations are written or handed to a pipeline, and only Calibration objects pass
-    from strapdown.calibrate._apply import by_sensor
+    from strapdown.calibrate import by_sensor
 
     for give in (lambda *c: save(tmp_path / "two.json", *c), lambda *c: by_sensor(list(c))):
         with pytest.raises(ValueError, match="two magnetometer calibrations given"):
@@ -187,7 +187,7 @@ def test_gyro_finds_the_rotation_the_field_alone_cannot():
     """A magnetometer turned 5.4° against the gyro axes: the ellipsoid fit leaves the field turned by that much,
     the gyro-aided fit puts it in the gyro's axes (the sensor's true body field, from the exact truth)."""
     from strapdown import as_matrix, from_rotvec
-    from strapdown.quaternion import conjugate, rotate
+    from strapdown.rotations.quaternion import conjugate, rotate
     from strapdown.simulate import ImuModel, MagneticField, RandomMotion, sample
 
     turn = as_matrix(from_rotvec(np.radians([3.0, -2.0, 4.0])))

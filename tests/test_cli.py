@@ -171,7 +171,7 @@ def test_public_functions_have_examples(module):
 
 @pytest.mark.parametrize(("estimator", "name"), [("madgwick", "beta"), ("mahony", "kp"), ("tilt", "tau_acc")])
 def test_text_for_a_numeric_parameter_is_named(estimator, name):
-    from strapdown.evaluate import make_params
+    from strapdown.fusion import make_params
 
     with pytest.raises(ValueError, match=f"{estimator} parameter {name} must be a number, got 'abc'"):
         make_params(estimator, {name: "abc"})

@@ -212,8 +212,8 @@ def test_evaluate_names_a_bad_trial_file(tmp_path, rate, trials_json, words):
 
 
 def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
-    from strapdown.broad import load_trials
-    from strapdown.evaluate import evaluate
+    from strapdown.evaluate.broad import load_trials
+    from strapdown.evaluate.evaluation import evaluate
 
     # all-zero truth: every error would be NaN; the table printed NaN and the exit code was 0
     err = refused("evaluate", broad_trial(tmp_path / "zero", quat=np.zeros((300, 4))), code=2)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import strapdown as sd
-from strapdown.evaluate import ESTIMATORS
+from strapdown.fusion import ESTIMATORS
 from strapdown.io import read_table, write_table
 
 FORMATS = ["csv", "parquet", "h5", "mat"]

@@ -312,7 +312,7 @@ def test_a_phone_export_given_as_its_files_or_its_folder_lies_flat(tmp_path):
 
 def test_a_px4_log_goes_in_with_no_options_in_its_own_frames(tmp_path):
     from strapdown.io import read_reference
-    from strapdown.metrics import attitude_errors
+    from strapdown.evaluate.metrics import attitude_errors
 
     res = ok("estimate", PX4_LOG, "-o", tmp_path / "att.parquet")
     assert "read:" in res.stderr
@@ -337,8 +337,8 @@ def test_sensors_at_lower_rates_are_refused_by_an_estimator_that_needs_every_row
 # ------------------------------------------------------------------------------------------------ plot --truth
 def test_plot_truth_in_other_frames_is_re_expressed_and_said_so(tmp_path):
     from conftest import rotation_angle
-    from strapdown.io.truth import align_truth
-    from strapdown.metrics import attitude_errors
+    from strapdown.io.pipelines.truth import align_truth
+    from strapdown.evaluate.metrics import attitude_errors
 
     ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 20)  # truth in ENU, FLU axes
     ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "ned.parquet", "--frame", "NED", "--body", "FLU")
@@ -371,7 +371,7 @@ def test_plot_truth_without_frames_is_refused_until_they_are_declared(tmp_path):
 
 def test_a_px4_logs_own_attitude_is_a_truth_for_plot(tmp_path):
     from conftest import rotation_angle
-    from strapdown.io.truth import align_truth
+    from strapdown.io.pipelines.truth import align_truth
 
     ok("estimate", PX4_LOG, "-o", tmp_path / "att.csv")
     res = ok("plot", tmp_path / "att.csv", "--truth", PX4_LOG, "--out", tmp_path / "fig")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from strapdown import METHODS
-from strapdown.compare import compare
+from strapdown.evaluate.compare import compare
 from strapdown.simulate import hammerhead_loop, sample
 
 EXACT_FOR_THIS_DATA = ["exact", "coning1-prev", "coning2", "coning3", "coning4", "coning5", "coning6"]

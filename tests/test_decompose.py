@@ -5,7 +5,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from conftest import random_quaternions, rotation_angle
-from strapdown.decompose import attitude_error, shortest_arc, swing_twist
+from strapdown.rotations.decompose import attitude_error, shortest_arc, swing_twist
 
 
 def unit(v):

@@ -5,9 +5,9 @@ import pytest
 
 import strapdown as sd
 from strapdown import quaternion as quat
-from strapdown.average import average_two, chordal_distance, mean
+from strapdown.rotations.average import average_two, chordal_distance, mean
 from strapdown.fusion import Mahony, tilt_from_pitch_roll, tilt_from_up
-from strapdown.metrics import error_quaternion
+from strapdown.evaluate.metrics import error_quaternion
 
 TWO, THREE = np.tile([1.0, 0, 0, 0], (2, 1)), np.tile([1.0, 0, 0, 0], (3, 1))
 
@@ -79,7 +79,7 @@ def test_from_matrix_atol_is_checked(atol):
 
 
 def test_complex_input_is_refused_by_name():
-    from strapdown.metrics import rmse
+    from strapdown.evaluate.metrics import rmse
 
     with pytest.raises(ValueError, match="x must be real, got a complex array"):
         rmse(np.array([1 + 1j, 2.0]))

@@ -122,7 +122,7 @@ def test_kernel_atan2_rounds_like_libm_at_the_lock_limits(rng):
     π/2 (the middle angle is compared with its limit exactly), and at the signed zeros (IEEE 754)."""
     import math
 
-    from strapdown._euler_numba import atan2_vec
+    from strapdown.rotations._euler_numba import atan2_vec
 
     tiny = 10.0 ** rng.uniform(-20, -9, 2000)
     one = 1.0 + rng.uniform(-1e-3, 1e-3, tiny.size)

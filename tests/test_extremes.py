@@ -12,7 +12,7 @@ import pytest
 
 import strapdown as sd
 from strapdown import quaternion as quat
-from strapdown.average import chordal_distance
+from strapdown.rotations.average import chordal_distance
 from strapdown.fusion import tilt_from_up, tilt_rates
 
 
@@ -242,7 +242,7 @@ def test_wahba_covariance_scales_with_any_weight(solver, w):
 
 
 def test_wahba_covariance_that_overflows_is_refused():
-    from strapdown.wahba import quest
+    from strapdown.rotations.wahba import quest
 
     b = np.array([[1.0, 0, 0], [0, 1.0, 0]])
     with pytest.raises(ValueError, match=r"covariance overflows float64: the weights \(largest 1e-320\)"):
@@ -250,7 +250,7 @@ def test_wahba_covariance_that_overflows_is_refused():
 
 
 def test_allan_deviation_is_linear_in_x_at_any_scale():
-    from strapdown.metrics import allan_deviation
+    from strapdown.evaluate.metrics import allan_deviation
 
     # alternating ±c: the first cluster pair differs by 2c, so adev(1 sample) = √(4c²/2) = c√2 (closed form)
     for c in (1e200, 1e-300, 1.0, 1e308):  # 1e308: the mean of the samples alone overflowed
@@ -261,7 +261,7 @@ def test_allan_deviation_is_linear_in_x_at_any_scale():
 
 
 def test_error_quaternion_of_huge_norms_and_names():
-    from strapdown.metrics import error_quaternion
+    from strapdown.evaluate.metrics import error_quaternion
 
     got = error_quaternion([[1e200, 0, 0, 1e199], [np.nan] * 4], [1.0, 0, 0, 0])
     np.testing.assert_allclose(got[0], unit([1.0, 0, 0, 0.1]), atol=1e-15)

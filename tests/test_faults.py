@@ -145,7 +145,7 @@ def _dead_pid():
 
 
 def test_stale_temporaries_of_killed_runs_are_removed_by_the_next_run(recording, tmp_path, spawn):
-    from strapdown._files import _host
+    from strapdown._support.files import _host
 
     out = tmp_path / "out.csv"
     out.write_bytes(OLD)

@@ -8,7 +8,7 @@ with negligible probability and the seeded generators make every run identical a
 import numpy as np
 import pytest
 
-from strapdown.metrics import allan_deviation
+from strapdown.evaluate.metrics import allan_deviation
 from strapdown.simulate.imu import KINDS, ClockModel, ImuModel, TriadModel, apply_clock, corrupt
 
 G = 9.80665

@@ -5,7 +5,7 @@ import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
 from conftest import random_quaternions, rotation_angle
-from strapdown.interpolate import resample, slerp_series, squad_series
+from strapdown.propagate.interpolate import resample, slerp_series, squad_series
 
 
 def rot(q):

@@ -18,7 +18,7 @@ from strapdown.io import (
     table_writer,
     write_table,
 )
-from strapdown.io.pipeline import integrate_stream
+from strapdown.io.pipelines import integrate_stream
 
 FORMATS = ["csv", "parquet", "h5", "mat"]
 
@@ -191,9 +191,11 @@ def test_output_has_ordinary_permissions(tmp_path):
         "io.writers",
         "io.imu",
         "io.tables",
-        "io.pipeline",
-        "io.plots",
-        "batch",
+        "io.pipelines",
+        "io.pipelines.plot",
+        "evaluate.figures",
+        "rotations.values",
+        "apps.batch",
         "io.registry",
         "io.reference",
         "io.timebase",
@@ -316,7 +318,7 @@ def test_metadata_is_read_back_where_the_format_keeps_it(tmp_path, fmt):
 
 
 def test_a_truth_in_another_frame_is_re_expressed_for_the_error_plot(tmp_path):
-    from strapdown.io.plots import _truth_in_frame_of
+    from strapdown.io.pipelines.plot import _truth_in_frame_of
 
     rng = np.random.default_rng(2)
     q_enu = rng.normal(size=(20, 4))

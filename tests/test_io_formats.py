@@ -14,7 +14,7 @@ import pytest
 import sim_exports as sim
 from strapdown.fusion import AttitudeEstimator
 from strapdown.io import ImuColumns, ImuFile, read_imu, read_reference
-from strapdown.metrics import attitude_errors
+from strapdown.evaluate.metrics import attitude_errors
 
 DATA = Path(__file__).parent / "data"
 PX4 = sorted((DATA / "px4").glob("*.ulg"))

@@ -14,7 +14,7 @@ import pytest
 
 import sim_exports as sim
 from strapdown.io import read_metadata, read_reference, read_table
-from strapdown.metrics import attitude_errors
+from strapdown.evaluate.metrics import attitude_errors
 
 DATA = Path(__file__).parent / "data"
 

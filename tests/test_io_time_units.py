@@ -270,7 +270,7 @@ def test_a_reference_with_date_times_keeps_their_epoch_origin(tmp_path):
 
 def test_a_truth_table_in_epoch_ns_is_put_on_the_estimates_instants(tmp_path):
     """A motion-capture table stamped in epoch ns, starting 1 s before the estimate: the shift comes from the stamps."""
-    from strapdown.io.truth import align_truth
+    from strapdown.io.pipelines.truth import align_truth
 
     rate, e0 = 0.5, 1718030736000000000  # rad/s about z; the truth's first stamp
     t_est = np.arange(300) * 0.01

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from strapdown.metrics import allan_deviation, attitude_errors, remove_heading_offset, rmse, rmse_errors
+from strapdown.evaluate.metrics import allan_deviation, attitude_errors, remove_heading_offset, rmse, rmse_errors
 
 
 def naive_non_overlapping(x, m):

@@ -6,7 +6,7 @@ from scipy.spatial.transform import Rotation
 
 from conftest import random_quaternions, rotation_angle, wrapped
 from strapdown import as_davenport, as_mrp, from_davenport, from_euler, from_mrp
-from strapdown.mrp import shadow_mrp
+from strapdown.rotations.mrp import shadow_mrp
 
 EX, EY, EZ = np.eye(3)
 

@@ -10,17 +10,20 @@ import strapdown as sd
 pytest.importorskip("matplotlib")
 pytest.importorskip("pyarrow")
 
-from strapdown.io import plots, write_table
+from strapdown.evaluate import figures
+from strapdown.io import write_table
+from strapdown.io.pipelines import plot as plots
+from strapdown.rotations.values import Angles
 
 
 def test_seventeen_methods_get_seventeen_styles():
-    styles = plots.line_styles(len(sd.METHODS))
+    styles = figures.line_styles(len(sd.METHODS))
     assert len(sd.METHODS) == 17
     assert len({(s["color"], s["linestyle"]) for s in styles}) == 17
     # neighbours in a legend never share a colour
     assert all(a["color"] != b["color"] for a, b in itertools.pairwise(styles))
     with pytest.raises(ValueError, match="n must be"):
-        plots.line_styles(-1)
+        figures.line_styles(-1)
 
 
 def test_yaw_is_unwrapped_and_blanked_near_the_vertical():
@@ -28,7 +31,7 @@ def test_yaw_is_unwrapped_and_blanked_near_the_vertical():
     t = np.linspace(0, 10, 1001)
     psi, theta = 100.0 * t, 85.0 * np.sin(np.pi * t / 10)
     q = sd.from_euler(np.c_[psi, theta, 0 * t], "ZYX", degrees=True)
-    values, blanked = plots.angles_for_display(q)
+    values, blanked = figures.angles_for_display(q)
     np.testing.assert_array_equal(blanked, theta > 80.0)
     shown = ~blanked
     np.testing.assert_allclose(values[shown, 1], theta[shown], atol=1e-9)
@@ -43,7 +46,7 @@ def test_yaw_is_unwrapped_and_blanked_near_the_vertical():
 
 def test_proper_euler_sequences_are_blanked_at_zero_and_half_turn():
     q = sd.from_euler(np.array([[10.0, 3.0, 20.0], [10.0, 90.0, 20.0], [10.0, 178.0, 20.0]]), "ZXZ", degrees=True)
-    _, blanked = plots.angles_for_display(q, plots.Angles("ZXZ"))
+    _, blanked = figures.angles_for_display(q, Angles("ZXZ"))
     assert blanked.tolist() == [True, False, True]
 
 
@@ -62,7 +65,7 @@ def files(tmp_path):
 def test_the_angles_figure_draws_the_truth_under_the_estimate(files):
     import matplotlib.pyplot as plt
 
-    figs = plots._file_figures(files / "est.csv", files / "sim.csv", plots.Angles(), 10_000, None)
+    figs = plots._file_figures(files / "est.csv", files / "sim.csv", Angles(), 10_000, None)
     try:
         assert sorted(figs) == ["angles", "bias", "errors"]
         yaw_axes = figs["angles"].axes[0]

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from strapdown import angle_between, from_rotvec
-from strapdown.frames import change_frame, frame_matrix
+from strapdown.rotations.frames import change_frame, frame_matrix
 from strapdown.simulate import ImuModel, RandomMotion, RecordedMotion, TriadModel, sample_recorded
 
 

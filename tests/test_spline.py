@@ -7,7 +7,7 @@ from scipy.spatial.transform import RotationSpline as ScipySpline
 
 from conftest import random_quaternions, random_walk_quaternions, rotation_angle
 from strapdown import angle_between, integrate
-from strapdown.interpolate import RotationSpline
+from strapdown.propagate.interpolate import RotationSpline
 
 
 @pytest.fixture
@@ -163,7 +163,7 @@ def test_float32_shapes_and_errors(rng):
 def test_invariance_under_constant_rotations(rng):
     """Physics the construction must respect (independent of scipy): a fixed change of reference frame does not
     change the body rates, and a fixed change of body axes rotates them (the spline is equivariant)."""
-    from strapdown.quaternion import multiply, rotate
+    from strapdown.rotations.quaternion import multiply, rotate
 
     t = np.cumsum(rng.uniform(0.1, 1.0, 15))
     q = random_walk_quaternions(15, 0.5, rng)

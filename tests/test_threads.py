@@ -1,4 +1,4 @@
-"""The parallel policy's decisions (strapdown._threads): settings, free cores, the size threshold, and results
+"""The parallel policy's decisions (strapdown._support.threads): settings, free cores, the size threshold, and results
 that do not depend on the thread count.  Decisions only: no elapsed time is measured here."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from strapdown import AttitudeIntegrator, integrate
-from strapdown import _threads as th
+from strapdown._support import threads as th
 
 
 @pytest.mark.parametrize(
@@ -107,7 +107,7 @@ def test_threads_one_is_bit_identical_to_threads_n(method, rng):
 
 
 def test_batch_jobs_default_to_one_thread_unless_told(monkeypatch):
-    from strapdown.batch import _one_thread
+    from strapdown._support.pool import one_thread as _one_thread
 
     monkeypatch.delenv("STRAPDOWN_THREADS", raising=False)
     monkeypatch.setattr(numba, "get_num_threads", lambda: 8)
@@ -177,7 +177,7 @@ def busy_eight_cores(busy_two_cores, monkeypatch):
 
 def _pieces_cover(calls, n):
     """The pieces are contiguous, cover [0, n) and start on multiples of PIECE_SAMPLES (tile edges)."""
-    from strapdown._integrate_numba import SCAN_TILE
+    from strapdown.propagate._integrate_numba import SCAN_TILE
 
     assert th.PIECE_SAMPLES % SCAN_TILE == 0  # a piece edge is a tile edge: the same bits as one call
     assert calls[0][1] == 0 and calls[-1][2] == n
@@ -371,7 +371,7 @@ def test_auto_measuring_in_pieces_gives_the_bits_of_one_thread(rng, monkeypatch)
 def test_interleaved_chains_give_the_bits_of_one_chain_at_a_time(kind, rng):
     """The scan runs four blocks' chains in one loop (_local4) for speed: that reorders only independent
     operations, so each block must come out as when it is chained alone (_local1), large steps included."""
-    from strapdown import _integrate_numba as k
+    from strapdown.propagate import _integrate_numba as k
 
     n = 4 * 3000 + 3  # blocks of unequal length: the longer ones finish alone
     g = rng.standard_normal((n, 3)) * 0.3
@@ -394,7 +394,7 @@ def test_interleaved_chains_give_the_bits_of_one_chain_at_a_time(kind, rng):
 
 def test_scan_bits_do_not_depend_on_how_the_blocks_are_shared(rng):
     """Any number of parts (threads) gives the same bits: 1, 2, 3 and 8 parts through the serial build of a part."""
-    from strapdown import _integrate_numba as k
+    from strapdown.propagate import _integrate_numba as k
 
     n = 3 * k.SCAN_TILE + 1000
     g = rng.standard_normal((n, 3)) * 0.5

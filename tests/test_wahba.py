@@ -14,7 +14,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from conftest import random_quaternions, rotation_angle
-from strapdown.wahba import davenport, olae, quest, static_attitude, triad
+from strapdown.rotations.wahba import davenport, olae, quest, static_attitude, triad
 
 N_PROBLEMS = 10_000
 SOLVERS = {"davenport": davenport, "quest": quest, "olae": olae}

@@ -1,4 +1,4 @@
-"""The warm-up step (:mod:`strapdown.warmup`, ``strapdown warmup``): which tasks run, and bad task names."""
+"""The warm-up step (:mod:`strapdown.apps.warmup`, ``strapdown warmup``): which tasks run, and bad task names."""
 
 import subprocess
 import sys
@@ -6,7 +6,7 @@ import sys
 import numpy as np
 import pytest
 
-from strapdown.warmup import TASKS, warmup
+from strapdown.apps.warmup import TASKS, warmup
 
 
 def run(*args):

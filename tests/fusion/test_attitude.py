@@ -19,7 +19,7 @@ from strapdown.fusion import (
     attitude,
     attitude_offline,
 )
-from strapdown.metrics import attitude_errors, rmse
+from strapdown.evaluate.metrics import attitude_errors, rmse
 from strapdown.simulate import (
     ConstantRotation,
     ImuModel,
@@ -232,8 +232,8 @@ def test_bad_input_is_named():
 
 @pytest.mark.skipif(not BROAD.is_dir(), reason="BROAD data not present (../shared/data/broad)")
 def test_broad_figures_of_issue_7():
-    from strapdown.broad import load_trials
-    from strapdown.evaluate import evaluate
+    from strapdown.evaluate.broad import load_trials
+    from strapdown.evaluate.evaluation import evaluate
 
     trials = load_trials(BROAD)
     six = evaluate("attitude", trials)
@@ -512,8 +512,8 @@ def test_the_rate_is_interpolated_across_a_gap():
 def test_broad_with_dropped_rows_and_missing_samples():
     # issue 13: 10 % of the rows dropped at random (true times given), or 10 % of the accelerometer and of the
     # magnetometer rows NaN: every mean within 10 % of the regular record's (before: 9D ×5 and ×2, 6D ×7 and ×3)
-    from strapdown.broad import load_trials
-    from strapdown.metrics import rmse_errors
+    from strapdown.evaluate.broad import load_trials
+    from strapdown.evaluate.metrics import rmse_errors
 
     sums = np.zeros((3, 3))
     for trial in load_trials(BROAD):

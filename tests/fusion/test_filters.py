@@ -19,7 +19,7 @@ from strapdown.fusion import (
     TiltEstimator,
     initial_attitude,
 )
-from strapdown.metrics import attitude_errors
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.simulate import RandomMotion, sample
 
 G = 9.80665

@@ -21,7 +21,7 @@ from strapdown.fusion import (
     tilt_from_up,
     tilt_rates,
 )
-from strapdown.metrics import attitude_errors
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.simulate import RockingPlatform, sample
 from strapdown.simulate.imu import ImuModel, TriadModel
 

@@ -13,15 +13,15 @@ quality figures, saved and loaded as JSON (:func:`save`, :func:`load`).  A fit r
 determine it (:class:`InsufficientMotionError`, a ``ValueError``) and says which motion is missing.
 """
 
-from .._lazy import exports
+from .._support.lazy import exports
 
-# imported when first used: the command line's estimate needs only _apply and to_true_north of this package
+# imported when first used: the command line's estimate needs only by_sensor and to_true_north of this package
 __getattr__, __dir__, __all__ = exports(
     __name__,
     {
         "_accelerometer": ("GRAVITY", "accelerometer"),
-        "_allan": ("AllanAnalysis", "allan"),
-        "_calibration": ("SENSORS", "Calibration", "load", "save"),
+        "_allan": ("AllanAnalysis", "allan", "allan_deviation"),
+        "_calibration": ("SENSORS", "Calibration", "by_sensor", "load", "save"),
         "_declination": ("GeomagneticField", "declination", "field", "to_true_north"),
         "_gyroscope": ("gyroscope", "rates_from_attitude"),
         "_magnetometer": ("InsufficientMotionError", "magnetometer"),

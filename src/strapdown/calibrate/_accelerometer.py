@@ -22,7 +22,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .. import _validate as _v
+from .._support import validate as _v
 from . import _ellipsoid as _e
 from . import _linear
 from ._calibration import Calibration

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..integrate import integrate
-from ..matrix import as_matrix
+from ..propagate.integrate import integrate
+from ..rotations.matrix import as_matrix
 
 
 def kabsch(a: np.ndarray, b: np.ndarray) -> np.ndarray:

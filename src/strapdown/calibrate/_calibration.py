@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import _validate as _v
+from .._support import validate as _v
 
 __all__ = ["SENSORS", "Calibration", "load", "save"]
 
@@ -307,3 +307,28 @@ def one_per_sensor(calibrations, what: str) -> dict:
             raise ValueError(f"two {cal.sensor} calibrations given; give one per sensor")
         out[cal.sensor] = cal
     return out
+
+
+def by_sensor(calibrations) -> dict:
+    """Calibrations by sensor name, one each, from None, :func:`load`'s mapping or a sequence of them.
+
+    Parameters
+    ----------
+    calibrations : None, mapping or sequence of Calibration
+        What :func:`load` returns, or the calibrations themselves.
+
+    Returns
+    -------
+    dict of str to Calibration
+        By :attr:`Calibration.sensor` (``"gyroscope"``, ``"accelerometer"``, ``"magnetometer"``); empty for None.
+
+    Examples
+    --------
+    >>> from strapdown.calibrate import by_sensor
+    >>> by_sensor(None)
+    {}
+    """
+    if calibrations is None:
+        return {}
+    items = calibrations.values() if isinstance(calibrations, dict) else calibrations
+    return one_per_sensor(items, "calibration must hold strapdown.calibrate.Calibration objects:")

@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _validate as _v
-from ..frames import frame_matrix
-from ..quaternion import multiply
+from .._support import validate as _v
+from ..rotations.frames import frame_matrix
+from ..rotations.quaternion import multiply
 
 __all__ = ["GeomagneticField", "declination", "field", "to_true_north"]
 
@@ -179,7 +179,7 @@ def to_true_north(q, declination, *, frame: str = "ENU", degrees: bool = False) 
     --------
     >>> import numpy as np
     >>> from strapdown.calibrate import to_true_north
-    >>> from strapdown.quaternion import rotate
+    >>> from strapdown.rotations.quaternion import rotate
     >>> q = to_true_north([1.0, 0.0, 0.0, 0.0], 10.0, frame="NED", degrees=True)
     >>> np.degrees(np.arctan2(*rotate(q, [1.0, 0.0, 0.0])[[1, 0]])).round(6)     # azimuth of the nose
     np.float64(10.0)

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _validate as _v
-from ..quaternion import canonical, conjugate, log, multiply
+from .._support import validate as _v
+from ..rotations.quaternion import canonical, conjugate, log, multiply
 from . import _ellipsoid as _e
 from . import _linear
 from ._calibration import Calibration

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _validate as _v
+from .._support import validate as _v
 from . import _ellipsoid as _e
 from ._calibration import Calibration
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _validate as _v
+from .._support import validate as _v
 
 __all__ = ["find_rests"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import sys
 
 FRAMES = ("ENU", "NED", "NWU")
-CHUNK_ROWS = 1 << 18  # as strapdown.io.pipeline.CHUNK_ROWS (not imported: --help stays light)
+CHUNK_ROWS = 1 << 18  # as strapdown.io.pipelines.CHUNK_ROWS (not imported: --help stays light)
 FORMATS = ("csv", "parquet", "hdf5", "mat")
 
 
@@ -168,7 +168,7 @@ def parse_q0(text: str | None, option: str = "--q0"):
     if len(values) == 4:
         return values
     if len(values) == 3:
-        from ..euler import from_euler
+        from ..rotations.euler import from_euler
 
         return from_euler(values, "ZYX", degrees=True).tolist()
     raise click.BadParameter("give 4 numbers (w,x,y,z) or 3 (yaw,pitch,roll in degrees)", param_hint=option)
@@ -363,7 +363,7 @@ def _frame(ctx, param, value):
 
     if value is None:
         return None
-    from ..frames import frame_matrix
+    from ..rotations.frames import frame_matrix
 
     frame = value.upper()
     try:
@@ -404,13 +404,13 @@ def assignment(text: str, option: str, raw: bool = False):
 
 
 def estimators():
-    from ..evaluate import ESTIMATORS
+    from ..fusion.registry import ESTIMATORS
 
     return ESTIMATORS
 
 
 def methods():
-    from ..integrate import METHODS
+    from ..propagate.integrate import METHODS
 
     return list(METHODS)
 

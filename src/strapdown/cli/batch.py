@@ -70,7 +70,7 @@ def _batch_options_among(args, found: dict) -> list:
 
 
 def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -> None:
-    from ..batch import Job, batch_outputs, check_split, expand, integrate_split, run_batch
+    from ..apps.batch import Job, batch_outputs, check_split, expand, integrate_split, run_batch
 
     found = {"out": out, "workers": workers, "scheduler": scheduler, "split": split}
     args = _batch_options_among(args, found)

@@ -92,7 +92,7 @@ def _convert_values(args, p: dict) -> None:
     import click
     import numpy as np
 
-    from ..io.pipeline import RowError, convert_values
+    from ..io.pipelines.convert import RowError, convert_values
     from ..io.tables import REPRESENTATIONS, column_names
 
     bad = [a for a in args if not is_number(a)]

@@ -20,7 +20,7 @@ def command(out):
       strapdown demo
       strapdown demo --out /tmp/strapdown-demo
     """
-    from ..demo import run
+    from ..apps.demo import run
 
     writable_folder(out, "--out")  # before the computation, not after it
     try:

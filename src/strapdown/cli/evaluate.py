@@ -51,9 +51,9 @@ def command(folder, estimator, nine_d, params, grid, objective, start, trials, k
       strapdown evaluate broad/data_mat -e tilt -g tau_acc=1,2,3 -g tau_bias=50,100
       strapdown evaluate broad/data_mat -e attitude -g bias_limit_deg_s=1,2,4
     """
-    from ..broad import load_trials
-    from ..evaluate import evaluate as run_evaluate
-    from ..evaluate import grid_search
+    from ..evaluate.broad import load_trials
+    from ..evaluate.evaluation import evaluate as run_evaluate
+    from ..evaluate.evaluation import grid_search
 
     fixed = parse_params(estimator, params)
     if csv_path:

@@ -46,9 +46,9 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
     """
     from pathlib import Path
 
-    from .._files import scratch_dir
+    from .._support.files import scratch_dir
+    from ..io.pipelines.plot import plot_file
     from ..io import Angles
-    from ..io.plots import plot_file
 
     try:
         angles = Angles(seq, not radians, yaw_range)
@@ -60,7 +60,7 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
         if truth is None:
             written = plot_file(path, None, folder, angles=angles, max_points=max_points)
         else:
-            from ..io.truth import align_truth, write_aligned
+            from ..io.pipelines.truth import align_truth, write_aligned
 
             aligned = align_truth(path, truth, truth_frame=truth_frame, truth_body=truth_body)
             if aligned.note:

@@ -1,10 +1,10 @@
-"""``strapdown warmup``: compile the numba kernels once after an install (:mod:`strapdown.warmup`)."""
+"""``strapdown warmup``: compile the numba kernels once after an install (:mod:`strapdown.apps.warmup`)."""
 
 from __future__ import annotations
 
 import click
 
-from ..warmup import TASKS
+from ..apps.warmup import TASKS
 
 
 @click.command()
@@ -24,7 +24,7 @@ def command(tasks, quiet):
       strapdown warmup
       strapdown warmup estimators conversions files
     """
-    from ..warmup import warmup
+    from ..apps.warmup import warmup
 
     times = warmup(quiet=quiet, tasks=list(tasks) or None)
     if not quiet:

@@ -15,6 +15,9 @@ ends at it, and outputs are in ``frame`` (ENU by default).
   reproducing published results.
 """
 
+import sys as _sys
+
+from .._support.moved import install as _install_moved
 from ._base import (
     FLAG_ACC_REJECTED,
     FLAG_BIAS_AT_LIMIT,
@@ -24,21 +27,18 @@ from ._base import (
     Estimate,
     initial_attitude,
 )
-from .attitude import AttitudeEstimator, AttitudeParams, attitude, attitude_offline
+from .attitude_estimator import AttitudeEstimator, AttitudeParams, attitude, attitude_offline
 from .complementary import Complementary, ComplementaryParams, complementary
 from .madgwick import Madgwick, MadgwickParams, madgwick
 from .mahony import Mahony, MahonyParams, mahony
-from .tilt import (
-    TiltEstimator,
-    TiltParams,
-    tilt,
-    tilt_from_pitch_roll,
-    tilt_from_quaternion,
-    tilt_from_up,
-    tilt_rates,
-)
+from .registry import ESTIMATORS, EstimatorEntry, make_params
+from .tilt import TiltEstimator, TiltParams, tilt, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
+
+# strapdown.fusion.attitude names the function here and, as a module path of release 0.1, the estimator's module
+_install_moved({"strapdown.fusion.attitude": _sys.modules[__name__ + ".attitude_estimator"]})
 
 __all__ = [
+    "ESTIMATORS",
     "FLAG_ACC_REJECTED",
     "FLAG_BIAS_AT_LIMIT",
     "FLAG_INVERTED",
@@ -49,6 +49,7 @@ __all__ = [
     "Complementary",
     "ComplementaryParams",
     "Estimate",
+    "EstimatorEntry",
     "Madgwick",
     "MadgwickParams",
     "Mahony",
@@ -60,6 +61,7 @@ __all__ = [
     "complementary",
     "initial_attitude",
     "madgwick",
+    "make_params",
     "mahony",
     "tilt",
     "tilt_from_pitch_roll",

@@ -20,9 +20,9 @@ from numbers import Real
 
 import numpy as np
 
-from .. import _validate as _v
-from ..frames import check_frame, frame_quaternion
-from ..quaternion import multiply, rotate
+from .._support import validate as _v
+from ..rotations.frames import check_frame, frame_quaternion
+from ..rotations.quaternion import multiply, rotate
 
 __all__ = [
     "FLAG_ACC_REJECTED",
@@ -84,7 +84,7 @@ class Estimate:
     @property
     def attitude(self):
         """``q`` as a :class:`strapdown.Attitude` (sensor axes, not named, to ``frame``), sharing its memory."""
-        from ..attitude import Attitude
+        from ..rotations.attitude import Attitude
 
         return Attitude._wrap(self.q, self.frame, None)
 
@@ -92,16 +92,16 @@ class Estimate:
     def tilt(self) -> np.ndarray:
         """Tilt quaternions e of ``q = q_z(ψ) ⊗ e`` (the Rowe patent's form, e3 = 0), shape (N, 4).
 
-        See :func:`strapdown.fusion.tilt_from_quaternion`; upside down gives the half turn (and ``FLAG_INVERTED``
+        See :func:`strapdown.rotations.tilt.tilt_from_quaternion`; upside down gives the half turn (and ``FLAG_INVERTED``
         in the flags of :class:`~strapdown.fusion.TiltEstimator`).
         """
-        from .tilt import tilt_from_quaternion
+        from ..rotations.tilt import tilt_from_quaternion
 
         return tilt_from_quaternion(self.q, check=False)[0]
 
     @cached_property
     def _ypr(self) -> np.ndarray:
-        from ..euler import as_euler
+        from ..rotations.euler import as_euler
 
         return as_euler(self.q, "ZYX") if len(self) else np.zeros((0, 3))
 
@@ -244,7 +244,7 @@ class Estimator:
     q0 : array_like, shape (4,), optional
         Initial attitude (sensor to ``frame``); by default it comes from the first sample(s).
     frame : str
-        Reference frame of inputs ``q0`` and of the outputs: any z-up or z-down frame of :mod:`strapdown.frames`.
+        Reference frame of inputs ``q0`` and of the outputs: any z-up or z-down frame of :mod:`strapdown.rotations.frames`.
     """
 
     natural_frame = "ENU"
@@ -591,7 +591,7 @@ def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarra
     """
     if k == 0:
         return v
-    from ..integrate import integrate
+    from ..propagate.integrate import integrate
 
     h = dts[1 : k + 1] if len(dts) > k else dts[-1]  # compact intervals: dts[-1] is every later one
     return rotate(integrate(gyr[1 : k + 1], dt=h)[-1], v)
@@ -653,7 +653,7 @@ def _one_vector(v, name: str) -> np.ndarray:
 
 
 def _initial_attitude(acc, mag, frame: str) -> np.ndarray:
-    from ..matrix import from_matrix
+    from ..rotations.matrix import from_matrix
 
     a = _one_vector(acc, "acc")
     na = np.linalg.norm(a)

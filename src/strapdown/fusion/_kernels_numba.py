@@ -6,8 +6,8 @@ import math
 
 import numba as nb
 
-from .._integrate_numba import TAYLOR_SHORT, exp_half_minus_one
-from .._quaternion_numba import qmul
+from ..propagate._integrate_numba import TAYLOR_SHORT, exp_half_minus_one
+from ..rotations._quaternion_numba import qmul
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")

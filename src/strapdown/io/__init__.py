@@ -28,14 +28,23 @@ Examples
 True
 """
 
-from .._lazy import exports
+from .._support.lazy import exports
 
 # The names below are imported from their modules when first used: ``strapdown.io.units`` or
 # ``strapdown.io.readers`` alone (the command line's option parsing) then does not load the pipeline, the
 # writers and every format.
 _HOME = {
     "imu": ("ImuChunk", "ImuColumns", "ImuFile", "read_imu"),
-    "pipeline": ("Report", "convert_file", "default_output", "estimate_file", "integrate_file", "simulate_file"),
+    "pipelines": (
+        "EstimateOptions",
+        "IntegrateOptions",
+        "Report",
+        "convert_file",
+        "default_output",
+        "estimate_file",
+        "integrate_file",
+        "simulate_file",
+    ),
     "readers": (
         "FORMATS",
         "INPUT_FORMATS",

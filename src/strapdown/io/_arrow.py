@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._deps import need
+from .._support.deps import need
 
 
 def from_numpy(values) -> object:

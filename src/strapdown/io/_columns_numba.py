@@ -4,7 +4,7 @@ The file commands write each attitude as the columns qw, qx, qy, qz and three Eu
 ``as_euler`` and then transposing both (N, 4) and (N, 3) into the writer's contiguous columns read and wrote
 every value three times; this kernel reads each quaternion once and writes its seven column entries, rounded
 to the output type (float32 or float64) on the store.  The angles are those of
-:func:`strapdown._euler_numba.as_euler_rows` bit for bit: the same inlined steps in the same order, in float64
+:func:`strapdown.rotations._euler_numba.as_euler_rows` bit for bit: the same inlined steps in the same order, in float64
 (the pipeline's quaternions are float64), followed by the ``yaw_range="positive"`` fold of
 :func:`strapdown.as_euler` in float64, and only then the rounding to the output type.  It releases the GIL, so
 the reader's and writer's threads run meanwhile.
@@ -19,7 +19,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .._euler_numba import BLOCK, _complex_pairs, _finish_row, _half_angles
+from ..rotations._euler_numba import BLOCK, _complex_pairs, _finish_row, _half_angles
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

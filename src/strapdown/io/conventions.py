@@ -47,7 +47,7 @@ def natural_body(frame: str) -> str:
     frame = frame.upper()
     if frame in _NATURAL_BODY:
         return _NATURAL_BODY[frame]
-    from ..frames import frame_matrix
+    from ..rotations.frames import frame_matrix
 
     up = frame_matrix(frame, "NED")[2, 2] < 0  # validates the name; True when the frame's z is up
     return "FLU" if up else "FRD"
@@ -75,7 +75,7 @@ class Axes:
         """``v_body = M @ v_sensor``, or None when the axes are the same."""
         if self.sensor == self.body:
             return None
-        from ..frames import frame_matrix
+        from ..rotations.frames import frame_matrix
 
         return frame_matrix(self.sensor, self.body)
 
@@ -115,7 +115,7 @@ def resolve_axes(imu, frame: str | None, body: str | None, out_body: str | None)
     Axes
         Validated (three right-handed axis letters each).
     """
-    from ..frames import frame_matrix
+    from ..rotations.frames import frame_matrix
 
     fmt = getattr(imu, "format", None) or getattr(imu.source, "format", "")
     frame = (frame or getattr(imu, "frame", None) or "ENU").upper()

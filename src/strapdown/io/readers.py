@@ -22,10 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ._deps import need
+from .._support.deps import need
 from .formats.csv import CsvSource
 from .formats.hdf5 import Hdf5Source
 from .formats.mat import COLUMNS_VARIABLE, MatSource, MatV73Source
+from .formats.multi import open_files
 from .formats.parquet import ParquetSource
 from .registry import choose, formats
 from .source import MemorySource, Source, TimeOrigin, check_chunk_rows, require_rows
@@ -221,9 +222,7 @@ def open_source(path, format: str | None = None, **options) -> Source:
         if len(path) == 1:
             path = path[0]
         else:
-            from .formats.multi import open_files
-
-            return open_files([Path(p) for p in path], format=format, **options)
+            return open_files([Path(p) for p in path], format=format, opener=open_source, **options)
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")

@@ -66,7 +66,7 @@ class Reference:
         >>> np.degrees(2 * np.arccos(ref.at([0.5])[0, 0])).round(6)
         np.float64(45.0)
         """
-        from ..interpolate import resample
+        from ..propagate.interpolate import resample
 
         return resample(self.t, self.q, np.asarray(t, dtype=np.float64))
 

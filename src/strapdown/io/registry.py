@@ -2,50 +2,36 @@
 
 A format is chosen from, in this order: the ``format`` the user names; a folder's or zip's layout (a Sensor
 Logger or phyphox export, an EuRoC ``mav0`` folder, a ROS 2 bag); the suffix (``.ulg``, ``.bag``, ``.csv``,
-...); the first bytes of the file (ULog's magic, HDF5's signature).  :func:`register` adds a format; the
-modules of :mod:`strapdown.io.formats` call it when imported.
+...); the first bytes of the file (ULog's magic, HDF5's signature).  Each module of :mod:`strapdown.io.formats`
+declares its :class:`Format`, and this registry holds them in :data:`strapdown.io.formats.BUILT_IN`'s order;
+:func:`register` adds another.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
+
+from .formats import BUILT_IN
+from .formats.base import Format
+from .formats.multi import open_files
 
 __all__ = ["Format", "choose", "formats", "register"]
 
 
-@dataclass(frozen=True)
-class Format:
-    """How to recognise and open one input format.
-
-    Attributes
-    ----------
-    name : str
-        The name users give (``--in-format``).
-    open : callable
-        ``open(path, **options) -> Source``.
-    suffixes : tuple of str
-        File suffixes (lower case, with the dot) that mean this format.
-    detect : callable, optional
-        ``detect(path) -> bool`` for folders, zips and files whose suffix says nothing; tried before suffixes
-        for folders and zips, after them for files.
-    options : tuple of str
-        The options ``open`` accepts besides the path (``"topic"``).
-    table : bool
-        A plain table that :func:`strapdown.io.write_table` also writes (csv, parquet, hdf5, mat).
-    """
-
-    name: str
-    open: Callable
-    suffixes: tuple = ()
-    detect: Callable | None = None
-    options: tuple = ()
-    table: bool = False
-    description: str = field(default="", compare=False)
+def _open_member(path, **options):
+    """One file of several, by its own format (the "files" format below; readers.open_source for the user's list)."""
+    return choose(path).open(path, **options)
 
 
-_FORMATS: dict[str, Format] = {}
+#: Several files of one recording (one per sensor), as one table: formats.multi with each member by its format.
+FILES = Format(
+    "files",
+    lambda path, **o: open_files([Path(path)], opener=_open_member, **o),
+    options=("time_unit",),
+    description="several files",
+)
+
+_FORMATS: dict[str, Format] = {f.name: f for f in (*BUILT_IN[:4], FILES, *BUILT_IN[4:])}
 
 
 def register(fmt: Format) -> Format:
@@ -91,8 +77,6 @@ def formats() -> dict[str, Format]:
     >>> {"csv", "ulog", "rosbag", "sensorlogger", "phyphox", "euroc"} <= set(formats())
     True
     """
-    from . import formats as _modules  # noqa: F401  (importing registers the built-in formats)
-
     return _FORMATS
 
 

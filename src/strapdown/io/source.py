@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .._support.deps import need
 from ._arrow import to_numpy
-from ._deps import need
 
 __all__ = ["MemorySource", "Source", "TimeOrigin", "check_chunk_rows", "require_rows"]
 

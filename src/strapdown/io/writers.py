@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import GuardedFile, atomic_path
+from .._support.deps import need
+from .._support.files import GuardedFile, atomic_path
 from ._arrow import from_numpy
-from ._deps import need
 from .readers import COLUMNS_VARIABLE, format_of
 
 __all__ = ["TableWriter", "csv_comments", "table_writer", "write_table"]
@@ -248,7 +248,7 @@ def csv_comments(metadata: Mapping[str, str] | None) -> str:
 def _mode(path: Path) -> str:
     """How to open a file for writing from its start: ``"r+b"`` when it exists and is empty, else ``"wb"``.
 
-    :func:`table_writer` writes into the empty temporary file that :func:`strapdown._files.atomic_path` claimed.
+    :func:`table_writer` writes into the empty temporary file that :func:`strapdown._support.files.atomic_path` claimed.
     Opening it with truncation (``"wb"``, O_TRUNC) made ext4 flush the whole file to disk when it was closed
     (its ``auto_da_alloc`` heuristic for files replaced by truncation): the close of a Parquet output took 0.23 s
     for 0.6 GB and 0.9 s for 2.6 GB here, against 1-2 ms for the same file opened without truncation.

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..quaternion import multiply, rotate
-from ..rotvec import from_rotvec
+from ..rotations.quaternion import multiply, rotate
+from ..rotations.rotvec import from_rotvec
 from .trajectories import _G_NED, Trajectory, _positive, _times, _unit
 
 __all__ = [

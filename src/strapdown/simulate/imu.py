@@ -46,7 +46,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from .. import _validate as _v
+from .._support import validate as _v
 
 __all__ = ["KINDS", "ClockModel", "ImuModel", "TriadModel", "apply_clock", "corrupt"]
 

@@ -1,10 +1,10 @@
 """Synthetic IMU data for a recorded motion (optical motion capture, a reference system) through the C² spline.
 
-Recorded attitudes go through :class:`strapdown.interpolate.RotationSpline` into gyro readings, with the sensor
+Recorded attitudes go through :class:`strapdown.propagate.interpolate.RotationSpline` into gyro readings, with the sensor
 errors of an :class:`~strapdown.simulate.ImuModel`.
 
 :class:`RecordedMotion` is a :class:`~strapdown.simulate.Trajectory` whose attitude is the
-:class:`strapdown.interpolate.RotationSpline` through the samples, so its body rate is the spline's (continuous,
+:class:`strapdown.propagate.interpolate.RotationSpline` through the samples, so its body rate is the spline's (continuous,
 with continuous angular acceleration) and every gyro form of :func:`~strapdown.simulate.sample` comes out
 consistent with the recording:
 
@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _validate as _v
-from ..frames import change_frame, frame_matrix
+from .._support import validate as _v
+from ..rotations.frames import change_frame, frame_matrix
 from .sampling import ImuData, MagneticField, sample
 from .trajectories import Trajectory, _quadrature, _times
 
@@ -72,7 +72,7 @@ def _natural_cubic_second_derivatives(t: np.ndarray, y: np.ndarray) -> np.ndarra
 
 def _frames(q, reference, body) -> tuple[str, str]:
     """The recording's frames: as given, else those an Attitude carries, else NED and FRD."""
-    from ..attitude import Attitude
+    from ..rotations.attitude import Attitude
 
     if isinstance(q, Attitude):
         for given, carried, side in ((reference, q.reference, "reference"), (body, q.body, "body")):
@@ -93,7 +93,7 @@ class RecordedMotion(Trajectory):
     q : array_like or strapdown.Attitude, shape (n, 4)
         Attitudes at those times, body to ``reference``, scalar first.
     reference, body : str, optional
-        Frames of ``q`` (and of ``positions``), by axis letters (:mod:`strapdown.frames`): the reference frame
+        Frames of ``q`` (and of ``positions``), by axis letters (:mod:`strapdown.rotations.frames`): the reference frame
         must have a vertical axis for gravity.  By default those named by an Attitude ``q``, else NED and FRD.
     positions : array_like, shape (n, 3), optional
         Positions of the IMU in ``reference`` (metres); None: at rest.
@@ -115,7 +115,7 @@ class RecordedMotion(Trajectory):
     """
 
     def __init__(self, t, q, *, reference: str | None = None, body: str | None = None, positions=None):
-        from ..interpolate import RotationSpline
+        from ..propagate.interpolate import RotationSpline
 
         reference, body = _frames(q, reference, body)
         self.reference, self.body = reference, body
@@ -145,7 +145,7 @@ class RecordedMotion(Trajectory):
 
     @property
     def spline(self):
-        """The :class:`strapdown.interpolate.RotationSpline` through the samples (NED/FRD, times from 0)."""
+        """The :class:`strapdown.propagate.interpolate.RotationSpline` through the samples (NED/FRD, times from 0)."""
         return self._spline
 
     def _inside(self, t) -> np.ndarray:

@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..frames import change_frame, frame_matrix
-from ..quaternion import conjugate, rotate
+from ..rotations.frames import change_frame, frame_matrix
+from ..rotations.quaternion import conjugate, rotate
 from .imu import ImuModel, apply_clock, corrupt
 from .trajectories import Trajectory, _positive, _seed
 
@@ -166,7 +166,7 @@ class ImuData:
 
 
 def _integrate(gyro, **kwargs):
-    from ..integrate import integrate
+    from ..propagate.integrate import integrate
 
     return integrate(gyro, **kwargs)
 
@@ -203,7 +203,7 @@ def sample(
     seed : int
         Seeds the errors (reproducible).
     reference, body : str
-        Output frames (:mod:`strapdown.frames`), e.g. ``"ENU"`` and ``"FLU"``.
+        Output frames (:mod:`strapdown.rotations.frames`), e.g. ``"ENU"`` and ``"FLU"``.
     duration : float, optional
         Seconds to sample (the whole trajectory by default).
 

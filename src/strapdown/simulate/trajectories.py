@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _validate as _v
-from ..quaternion import conjugate, multiply
-from ..rotvec import as_rotvec, from_rotvec
+from .._support import validate as _v
+from ..rotations.quaternion import conjugate, multiply
+from ..rotations.rotvec import as_rotvec, from_rotvec
 
 __all__ = ["GRAVITY", "Coning", "ConstantRotation", "RandomMotion", "RockingPlatform", "Trajectory"]
 
@@ -100,7 +100,7 @@ class Trajectory:
 
     def specific_force(self, t) -> np.ndarray:
         """What an ideal accelerometer reads (FRD, m/s²): ``Cᵀ (a - g)``."""
-        from ..quaternion import rotate
+        from ..rotations.quaternion import rotate
 
         t = _times(t, self.duration)
         return rotate(conjugate(self.attitude(t)), self.acceleration(t) - _G_NED)
@@ -374,7 +374,7 @@ class RockingPlatform(Trajectory):
 
     def attitude(self, t):
         """See :meth:`Trajectory.attitude`."""
-        from ..euler import from_euler
+        from ..rotations.euler import from_euler
 
         (psi, th, ph), _, _ = self._angles(_times(t, self.duration))
         return from_euler(np.stack([psi, th, ph], axis=-1), "ZYX")

@@ -1,4 +1,4 @@
-"""One module per input format; importing this package registers them all (:mod:`strapdown.io.registry`).
+"""One module per input format; each declares its format (:mod:`strapdown.io.registry` holds them).
 
 Tables: :mod:`.csv`, :mod:`.parquet`, :mod:`.hdf5`, :mod:`.mat`.  Logs and exports: :mod:`.ulog` (PX4),
 :mod:`.rosbag` (ROS 1 and 2), :mod:`.euroc` (ASL/EuRoC/TUM-VI folders), :mod:`.sensorlogger` and
@@ -6,15 +6,18 @@ Tables: :mod:`.csv`, :mod:`.parquet`, :mod:`.hdf5`, :mod:`.mat`.  Logs and expor
 Nothing heavy is imported until a file is opened.
 """
 
-from . import (  # noqa: F401  (tables first: their suffixes are the common case)  # noqa: F401
-    csv,
-    euroc,
-    hdf5,
-    mat,
-    multi,
-    parquet,
-    phyphox,
-    rosbag,
-    sensorlogger,
-    ulog,
+from . import csv, euroc, hdf5, mat, parquet, phyphox, rosbag, sensorlogger, ulog
+
+#: The formats of these modules, tables first (their suffixes are the common case); the registry adds "files" (several
+#: files of one recording, :mod:`.multi`) after the tables.
+BUILT_IN = (
+    csv.FORMAT,
+    euroc.FORMAT,
+    hdf5.FORMAT,
+    mat.FORMAT,
+    parquet.FORMAT,
+    phyphox.FORMAT,
+    rosbag.FORMAT,
+    sensorlogger.FORMAT,
+    ulog.FORMAT,
 )

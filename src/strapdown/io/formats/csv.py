@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .._deps import need
-from ..registry import Format, register
+from ..._support.deps import need
 from ..source import Source, _arrow_to_numpy, _window, check_chunk_rows
+from .base import Format
 
-__all__ = ["CsvSource"]
+__all__ = ["CsvSource", "open_csv"]
 
 _INTEGER = re.compile(r"^[+-]?\d+$")
 _DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?$")
@@ -256,4 +256,42 @@ def _open(path, **options):
     return CsvSource(Path(path))
 
 
-register(Format("csv", _open, suffixes=(".csv", ".txt", ".tsv"), table=True, description="delimited text"))
+def open_csv(path) -> CsvSource:
+    r"""A CSV file as a Source, a failure named as :func:`strapdown.io.open_source` names it (the files of an export).
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+
+    Returns
+    -------
+    CsvSource
+        Its fields and chunks.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from strapdown.io.formats.csv import open_csv
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "a.csv"
+    >>> _ = path.write_text("t,x\n0,1\n")
+    >>> with open_csv(path) as src:
+    ...     src.fields
+    {'t': 1, 'x': 1}
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no such file: {path}")
+    try:
+        return CsvSource(path)
+    except (ImportError, FileNotFoundError):
+        raise
+    except ValueError as exc:
+        text = str(exc)
+        raise ValueError(text if str(path) in text else f"{path} is not a readable csv file: {text}") from None
+    except Exception as exc:  # a corrupt file, or one without a header: named, with the reader's reason
+        raise ValueError(f"{path} is not a readable csv file: {exc}") from None
+
+
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format("csv", _open, suffixes=(".csv", ".txt", ".tsv"), table=True, description="delimited text")

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..registry import Format, register
+from .base import Format
 from .csv import CsvSource
 
 __all__ = ["imu_file", "open_euroc"]
@@ -80,11 +80,10 @@ def open_euroc(path) -> CsvSource:
     return src
 
 
-register(
-    Format(
-        "euroc",
-        open_euroc,
-        detect=lambda p: p.is_dir() and imu_file(p) is not None,
-        description="ASL/EuRoC/TUM-VI folder",
-    )
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format(
+    "euroc",
+    open_euroc,
+    detect=lambda p: p.is_dir() and imu_file(p) is not None,
+    description="ASL/EuRoC/TUM-VI folder",
 )

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._deps import need
-from ..registry import Format, register
+from ..._support.deps import need
 from ..source import Source, _from_origin, check_chunk_rows
+from .base import Format
 
 __all__ = ["Hdf5Source"]
 
@@ -121,4 +121,5 @@ def _open(path, **options):
     return Hdf5Source(Path(path))
 
 
-register(Format("hdf5", _open, suffixes=(".h5", ".hdf5", ".hdf"), detect=_is_hdf5, table=True, description="HDF5"))
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format("hdf5", _open, suffixes=(".h5", ".hdf5", ".hdf"), detect=_is_hdf5, table=True, description="HDF5")

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._deps import need
-from ..registry import Format, register
+from ..._support.deps import need
 from ..source import Source, _from_origin, check_chunk_rows
+from .base import Format
 from .hdf5 import Hdf5Source
 
 __all__ = ["COLUMNS_VARIABLE", "MAX_MAT_BYTES", "MatSource", "MatV73Source", "expanded_size"]
@@ -213,4 +213,5 @@ def _open(path, **options):
     return MatV73Source(path) if h5py.is_hdf5(str(path)) else MatSource(path)
 
 
-register(Format("mat", _open, suffixes=(".mat",), table=True, description="MATLAB v4/v5/v7.3"))
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format("mat", _open, suffixes=(".mat",), table=True, description="MATLAB v4/v5/v7.3")

@@ -20,7 +20,6 @@ import numpy as np
 
 from ..columns import describe_fields, detect_time, detect_vector
 from ..merge import place_on_rows
-from ..registry import Format, register
 from ..source import MemorySource, Source, TimeOrigin
 from ..timebase import check_period, infer_time_unit, origin_of
 from ..units import UNITS, parse_unit
@@ -286,7 +285,7 @@ def _hint(name: str) -> str | None:
     return split_name(name, "time")[1]
 
 
-def open_streams(paths, kinds: dict | None = None) -> dict:
+def open_streams(paths, kinds: dict | None = None, opener=None) -> dict:
     """The sensor streams of several files, one per sensor: ``{"gyro": Stream, ...}``.
 
     Parameters
@@ -295,6 +294,8 @@ def open_streams(paths, kinds: dict | None = None) -> dict:
         The files.
     kinds : dict of pathlib.Path to str, optional
         The sensor of a file when its name does not tell it.
+    opener : callable, optional
+        ``opener(path) -> Source`` for each file; by default the CSV reader (a phone export's files are CSV).
 
     Returns
     -------
@@ -307,11 +308,12 @@ def open_streams(paths, kinds: dict | None = None) -> dict:
     >>> open_streams([])
     {}
     """
-    from ..readers import open_source
+    if opener is None:
+        from .csv import open_csv as opener
 
     streams = {}
     for p in paths:
-        with open_source(p) as src:
+        with opener(p) as src:
             s = read_stream(src, (kinds or {}).get(p))
         if s.kind in streams:
             raise ValueError(f"{p} and {streams[s.kind].path} both hold {s.kind} readings; give one file per sensor")
@@ -319,7 +321,9 @@ def open_streams(paths, kinds: dict | None = None) -> dict:
     return streams
 
 
-def open_files(paths, format: str | None = None, time_unit: str | None = None, **options) -> MemorySource:
+def open_files(
+    paths, format: str | None = None, time_unit: str | None = None, *, opener=None, **options
+) -> MemorySource:
     r"""Several files of one recording as one table (see the module's description).
 
     Parameters
@@ -330,6 +334,9 @@ def open_files(paths, format: str | None = None, time_unit: str | None = None, *
         ``"files"`` or None (the other formats take one path).
     time_unit : str, optional
         The unit of the files' time columns.
+    opener : callable, optional
+        ``opener(path) -> Source`` for each file (:func:`strapdown.io.open_source` when the files may be of
+        any format); CSV by default.
     **options
         None accepted.
 
@@ -357,7 +364,7 @@ def open_files(paths, format: str | None = None, time_unit: str | None = None, *
     for p in paths:
         if not p.is_file():
             raise FileNotFoundError(f"no such file: {p}")
-    streams = open_streams(paths)
+    streams = open_streams(paths, opener=opener)
     src = merge_streams(paths[0], streams, "files", time_unit=time_unit)
     if all(first_line(p.parent, p.name).startswith("time,seconds_elapsed,z,y,x") for p in paths):
         src.frame, src.body = "ENU", "RFU"  # Sensor Logger's files given one by one: Android's axes
@@ -402,13 +409,6 @@ def zip_names(path: Path) -> list[str]:
             return [Path(i.filename).name for i in z.infolist() if not i.is_dir()]
     except zipfile.BadZipFile:
         return []
-
-
-register(
-    Format(
-        "files", lambda path, **o: open_files([Path(path)], **o), options=("time_unit",), description="several files"
-    )
-)
 
 
 def first_line(path: Path, name: str) -> str:

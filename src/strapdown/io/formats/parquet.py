@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._deps import need
-from ..registry import Format, register
+from ..._support.deps import need
 from ..source import Source, _arrow_to_numpy, _arrow_width, _window, check_chunk_rows
+from .base import Format
 
 __all__ = ["ParquetSource"]
 
@@ -80,4 +80,5 @@ def _open(path, **options):
     return ParquetSource(Path(path))
 
 
-register(Format("parquet", _open, suffixes=(".parquet", ".pq"), table=True, description="Apache Parquet"))
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format("parquet", _open, suffixes=(".parquet", ".pq"), table=True, description="Apache Parquet")

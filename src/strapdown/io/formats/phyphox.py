@@ -18,8 +18,8 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from ..registry import Format, register
 from ..source import TimeOrigin
+from .base import Format
 from .multi import Export, first_line, merge_streams, open_streams
 
 __all__ = ["SENSOR_FILES", "open_phyphox"]
@@ -109,12 +109,11 @@ def open_phyphox(path, time_unit: str | None = None):
     return src
 
 
-register(
-    Format(
-        "phyphox",
-        open_phyphox,
-        detect=_is_export,
-        options=("time_unit",),
-        description="phyphox export (folder or zip)",
-    )
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format(
+    "phyphox",
+    open_phyphox,
+    detect=_is_export,
+    options=("time_unit",),
+    description="phyphox export (folder or zip)",
 )

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._deps import need
-from ..registry import Format, register
+from ..._support.deps import need
+from .base import Format
 from .multi import Stream, merge_streams
 
 __all__ = ["IMU_TYPE", "MAG_TYPE", "open_bag"]
@@ -137,13 +137,12 @@ def _is_bag(path: Path) -> bool:
         return f.read(13) == b"#ROSBAG V2.0\n"
 
 
-register(
-    Format(
-        "rosbag",
-        open_bag,
-        suffixes=(".bag", ".db3", ".mcap"),
-        detect=_is_bag,
-        options=("topic", "mag_topic"),
-        description="ROS 1 / ROS 2 bag (rosbags)",
-    )
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format(
+    "rosbag",
+    open_bag,
+    suffixes=(".bag", ".db3", ".mcap"),
+    detect=_is_bag,
+    options=("topic", "mag_topic"),
+    description="ROS 1 / ROS 2 bag (rosbags)",
 )

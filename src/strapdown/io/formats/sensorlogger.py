@@ -20,7 +20,7 @@ import csv
 from pathlib import Path
 
 from ..merge import place_on_rows
-from ..registry import Format, register
+from .base import Format
 from .multi import Export, first_line, merge_streams, open_streams
 
 __all__ = ["SENSOR_FILES", "open_sensorlogger"]
@@ -103,12 +103,11 @@ def open_sensorlogger(path, time_unit: str | None = None):
     return src
 
 
-register(
-    Format(
-        "sensorlogger",
-        open_sensorlogger,
-        detect=_is_export,
-        options=("time_unit",),
-        description="Sensor Logger export (folder or zip)",
-    )
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format(
+    "sensorlogger",
+    open_sensorlogger,
+    detect=_is_export,
+    options=("time_unit",),
+    description="Sensor Logger export (folder or zip)",
 )

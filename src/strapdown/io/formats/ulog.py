@@ -22,10 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .._deps import need
+from ..._support.deps import need
 from ..merge import place_on_rows
-from ..registry import Format, register
 from ..source import MemorySource, TimeOrigin
+from .base import Format
 
 __all__ = ["ULOG_MAGIC", "UlogSource", "read_attitude"]
 
@@ -199,13 +199,12 @@ def _open(path, topic=None, mag_topic=None):
     return UlogSource(Path(path), topic=topic, mag_topic=mag_topic)
 
 
-register(
-    Format(
-        "ulog",
-        _open,
-        suffixes=(".ulg", ".ulog"),
-        detect=_is_ulog,
-        options=("topic", "mag_topic"),
-        description="PX4 ULog (pyulog)",
-    )
+#: This module's format, for :mod:`strapdown.io.registry`.
+FORMAT = Format(
+    "ulog",
+    _open,
+    suffixes=(".ulg", ".ulog"),
+    detect=_is_ulog,
+    options=("topic", "mag_topic"),
+    description="PX4 ULog (pyulog)",
 )

@@ -1,0 +1,684 @@
+"""A 6D/9D orientation estimator with gyro bias and scale-factor estimation, online and offline.
+
+How it works
+------------
+1. Gyro frame.  ``q_g`` integrates the gyro corrected by the current bias b and scale-factor errors s,
+   ``ω - b - s ∘ ω``, with the exact step.  It maps the sensor to an almost-inertial frame I that drifts only
+   with the errors left in b and s.
+2. Inclination.  The accelerometer, rotated into I, passes a second-order Butterworth low-pass (``tau_acc``).
+   In I gravity is fixed while linear acceleration averages out (velocity stays bounded), so the filtered
+   vector points up however long the body accelerates.  The correction ``q_c`` is the tilt quaternion that
+   turns it vertical (math.md §5.5), and ``q_6D = q_c ⊗ q_g``.  Filtering in an almost-inertial frame is the
+   central idea of VQF (Laidig & Seel, Information Fusion 2023).  For the first ``tau_acc`` seconds the filter
+   is the plain mean of the samples in I (as VQF starts), so the first sample's linear acceleration averages
+   out instead of decaying over several time constants; bias and scale are not learnt from motion meanwhile.
+3. Bias and scale in motion.  When b or s is wrong, I turns at ``R(q) (δb + δs ∘ ω)`` and the correction has
+   to turn with it.  Seen through the low-pass, the correction's rate is ``LP[R_h(q)] δb + LP[R_h(q) diag ω] δs``
+   (R_h: the two horizontal rows of R), so filtering the regressors with the same low-pass turns every block
+   of samples into a linear measurement of (b, s).  VQF filters its regressor the same way for the bias.  Here a
+   six-state Kalman filter also estimates the scale factors, because in fast motion scale errors drift the
+   frame far more than bias does: on BROAD this alone lowers the 6D inclination error by a tenth.  A
+   measurement is trusted less the faster the body turns (``bias_noise_rate_factor``), since unmodelled gyro
+   errors grow with the rate, and the more the body accelerates (``bias_noise_acc_factor``): the low-pass
+   leaves LP[a] of a linear acceleration a in the filtered vector, and its horizontal rate over g moves the
+   correction exactly as a bias error would.  The accelerometer's departure from the filtered vector, a - LP[a],
+   passed through the same low-pass, estimates LP[a] (for the frequencies above the cutoff that move it; slower
+   ones are indistinguishable from gravity anyway), and its rate, correlated over about tau_acc, adds
+   mean(|rate|²) tau_acc / g² (times the factor²) to the measurement's noise density².  In simulation, a body
+   accelerating at 2 m/s² learns a wrong bias without it (with it, the inclination error is 0.88 of that without:
+   tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
+   on BROAD (benchmarks/bench_attitude.py), where larger values cost the bias learning more than they save.
+   An accelerometer bias b_a leaves LP[R b_a] in the filtered vector, which turns with the body and so also
+   moves the correction like a gyro bias: a consumer accelerometer's 20 mg, uncorrected, makes the regression
+   learn a wrong gyro bias (benchmarks/bench_testbed.py: consumer IMU 1.57° 6D against VQF's 1.27°).  With
+   ``acc_bias_sigma_init`` > 0 three more states model it: over a block the correction turns by
+   (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g (R_i the rows of R, ΔLP their low-passed change), and the estimate is
+   subtracted from the accelerometer (test-bed: 1.02°; tests/fusion/test_attitude.py).  It is off by default:
+   on BROAD's hand-held motion it costs (6D 0.64° -> 0.67° at 0.03 m/s²), since linear accelerations that turn
+   with the body (a lever arm) look the same to it.
+4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
+   mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
+   mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
+   mean says.
+   The bias prior.  Gyro biases of a sensor class spread about zero (``bias_limit``), and a bias wanders.  A
+   first-order Gauss-Markov process models both: stationary spread ``bias_limit``, correlation time
+   t_c = 2 bias_limit² / q (q = bias_sigma_init² / bias_forgetting_time, the wander rate), so that far inside the
+   prior the bias wanders exactly as a random walk of rate q, and the prior pulls towards zero only at the rate
+   1/t_c (about an hour for the defaults).  A clip would hold a real 4.5°/s bias at the limit and leave the
+   attitude drifting; the prior learns it (tests/fusion/test_attitude.py) and flags it, FLAG_BIAS_AT_LIMIT.
+5. Heading (9D).  The magnetic field, taken into the 6D frame, gives a heading offset δ that a first-order
+   filter (``tau_mag``) follows about the vertical only, so the magnetometer never tilts the estimate:
+   ``q = q_z(δ) ⊗ q_6D``; until it has averaged that long it is the mean of the updates so far, so the first
+   field sets the heading at once.  While the accelerometer start (step 2) still averages, its tilt, and so the
+   field's heading in it (a tilt error ε shows as ε tan(dip) of heading), is poorer than the filter's after it:
+   each update then sets the heading afresh, and the mean starts when the filter takes over.  In simulated
+   starts in motion this brings the heading within 2° after 10 s where the mean over the whole start left
+   4.5° (tests/fusion/test_attitude.py).  The first field is only a candidate for the reference until its norm
+   and dip have stayed consistent for ``mag_start_time``; a different field meanwhile (a phone magnetometer's
+   first second, say) replaces it and restarts the heading.  The field's norm and dip are compared with a slowly
+   learnt reference;
+   while they differ (a magnet, steel nearby) the magnetometer is left out and flagged.  A disturbance that lasts
+   ``mag_new_time`` is taken as a new environment, and a return to the previous field is recognised at once.
+   The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
+   see on a level platform.
+6. Offline (:func:`attitude_offline`).  A smoother of the bias and scale states, then of the attitude.  The
+   estimator runs forward and backward in time (time constants ``offline_time_factor`` times longer, 9D with a
+   magnetometer); at each sample the two bias estimates, each from one side of the record and so independent,
+   are combined by their inverse variances (the two-filter form of the Rauch-Tung-Striebel smoother), and the
+   scale is the mean of the two passes' final estimates, each of which has seen the whole record.  The gyro,
+   corrected by that smoothed bias and scale, then gives one gyro frame over the whole record, and the
+   accelerometer in it passes the step-2 low-pass (time constant tau_acc times ``offline_time_factor``) forward
+   and then backward in time: a zero-phase filter whose gain is the square of the online one's, so linear
+   acceleration above the cutoff is attenuated as (ω tau)⁻⁴ instead of (ω tau)⁻², with no lag (a shaken level
+   body keeps 1/20 of the online tilt error at 0.2 Hz, exactly |H|²: tests/fusion/test_attitude.py).  The mean of
+   a forward and a backward pass, used before, cancels the lags too but has the gain Re H, the attenuation of
+   one pass; in the simulated test-bed the zero-phase filter cuts an ideal IMU's offline inclination error from
+   0.32° to 0.10° (benchmarks/bench_testbed.py), and on BROAD it is level (0.542° against 0.539°).
+   With a magnetometer the heading is then taken from the field in that 6D frame, smoothed
+   forward and backward in time by a local-linear fit (time constant ``offline_heading_tau``; it follows the
+   ramp a residual vertical bias gives the 6D heading right to the ends of the record), with the samples
+   either bias pass found disturbed left out.
+
+Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
+Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.
+
+Irregular sampling.  Every coefficient is computed for the interval it spans, so jitter, dropped rows and gaps
+cost only the information they take away:
+
+* The low-passes (the accelerometer's, per sample, and the regressors', per block) are one continuous
+  second-order Butterworth filter, stepped exactly over each interval with the input held (``lowpass2`` in
+  _kernels_numba.py).  Its states are the output and its rate, which mean the same whatever the interval; a
+  direct-form filter's states belong to the coefficients that made them, and when a dropped row changed those
+  for one step the output jumped (10 % of BROAD's rows dropped multiplied the 9D error by 5, 6D by 7).  No restart is
+  needed after a gap.  The regressor is the filter output's mean over the block, as the measurement is the
+  correction's mean rate over it (an exact integral of the filter's ODE).
+* An interval longer than the nominal one (the shortest recent interval) holds lost gyro samples: the rate over
+  the uncovered part is interpolated linearly between the samples on either side (``gap_step``), which
+  integrates a linearly changing rate exactly; applying the next sample's rate over the whole gap errs by about
+  the gap times the change of rate.  A lasting lower rate becomes the nominal interval within about a second.
+* The rest detector's and the magnetometer's first-order means use 1 - exp(-interval/tau).
+
+``benchmarks/bench_attitude.py --irregular`` measures it on BROAD (rows dropped at random with their true times,
+and NaN accelerometer and magnetometer rows); tests/fusion/test_attitude.py on simulated data.
+
+The defaults were chosen once on the 22 BROAD trials (one common set, BROAD's rule) and are physical: time
+constants in seconds, rates in rad/s, noise densities in rad/s·√s.  The results change little across a wide
+range (``benchmarks/bench_attitude.py`` prints the RMSE surface over ``tau_acc`` and ``tau_mag``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+from numbers import Real
+
+import numpy as np
+
+from .._support import validate as _v
+from ..rotations.quaternion import multiply, rotate
+from ._base import (
+    FLAG_MAG_REJECTED,
+    Estimate,
+    Estimator,
+    PiecewiseEstimate,
+    _back_to_first_sample,
+    _first_present,
+    float32_if,
+    params_of,
+)
+
+__all__ = ["AttitudeEstimator", "AttitudeParams", "attitude", "attitude_offline"]
+
+_DEG = np.pi / 180.0
+
+
+@dataclass(frozen=True)
+class AttitudeParams:
+    """Parameters of :class:`AttitudeEstimator`, in physical units.
+
+    Attributes
+    ----------
+    tau_acc : float
+        Time constant of the accelerometer low-pass in the almost-inertial frame, s.  Default 3.5.
+    tau_mag : float
+        Time constant of the heading correction from the magnetometer, s.  Default 20.
+    bias_sigma_init : float
+        Initial uncertainty of the gyro bias, rad/s (default 0.5°/s).
+    bias_forgetting_time : float
+        Time in which the bias uncertainty grows back to ``bias_sigma_init`` without information, s (how fast
+        the bias may wander).  Default 100.
+    bias_noise_motion : float
+        Noise density of the in-motion bias measurement, rad/s·√s (default 0.18°/s·√s: one second of motion
+        tells the bias to about that much).
+    bias_noise_rate_factor : float
+        Growth of that noise with the angular rate, √s (noise² += factor² |ω|²).  Default 6e-4.
+    bias_noise_acc_factor : float
+        Growth of the in-motion noise with the linear acceleration a (dimensionless): noise² += factor²
+        mean(|d LP[a]/dt|²_horizontal) tau_acc / g², the rate at which the low-passed acceleration moves the
+        correction (module notes, step 3).  Default 0.1 (leave-one-group-out on BROAD); 0 turns it off.
+    bias_noise_rest : float
+        Least noise density of the at-rest bias measurement, rad/s·√s (default 0.0018°/s·√s).  Above it the
+        noise comes from the gyro's own scatter at rest, so that ``bias_sigma`` stays honest for noisy gyros.
+    scale_sigma_init : float
+        Initial uncertainty of the gyro scale-factor errors (dimensionless, default 0.002 = 0.2 %).
+    scale_noise : float
+        Random walk of the scale-factor errors, 1/√s (default 1e-5).
+    acc_bias_sigma_init : float
+        Initial uncertainty of the accelerometer bias, m/s²; 0 (the default) leaves it out.  0.1 (about 10 mg)
+        suits an accelerometer that was not calibrated (module notes, step 3).
+    acc_bias_noise : float
+        Random walk of the accelerometer bias, m/s²/√s (default 1e-4).
+    bias_noise_mag : float
+        Noise density of the vertical-bias measurement from the heading rate, rad/s·√s (default 1.8°/s·√s);
+        0 turns it off.
+    rest_gyro : float
+        Rest detection: largest deviation of the gyro from its 0.5 s mean, rad/s (default 2°/s).
+    rest_acc : float
+        Rest detection: largest deviation of the accelerometer from its 0.5 s mean, m/s².  Default 0.5.
+    rest_time : float
+        Seconds of steadiness before rest is declared.  Default 1.5.
+    rest_tau : float
+        Time constant of the rest detector's means, s.  Default 0.5.
+    bias_limit : float
+        Spread (standard deviation) of the bias prior, rad/s (default 2°/s).  The bias is modelled as a
+        Gauss-Markov process with this stationary spread that wanders as ``bias_forgetting_time`` says, so a
+        larger bias the data show is learnt, not clipped; while an estimate lies beyond it on some axis the
+        samples carry ``FLAG_BIAS_AT_LIMIT`` (check the sensor).  A steady mean rate up to three times it is
+        taken as a bias at rest; a faster one is a steady turn.
+    mag_norm_threshold : float
+        Relative departure of the field norm from its reference that counts as disturbed.  Default 0.1.
+    mag_dip_threshold : float
+        Departure of the dip angle from its reference that counts as disturbed, rad (default 10°).
+    mag_ref_tau : float
+        Time constant with which the reference norm and dip follow an undisturbed field, s.  Default 20.
+    mag_current_tau : float
+        Time constant of the current norm and dip, s.  Default 0.05.
+    mag_new_time : float
+        Seconds of a steady new field after which it becomes the reference.  Default 20.
+    mag_start_time : float
+        Seconds the first field must stay consistent (norm and dip within the thresholds) before it becomes the
+        reference; a different field meanwhile replaces it and sets the heading afresh.  Default 2.
+    update_rate : float
+        Rate of the bias, scale and heading updates, Hz.  Default 5: the regressors are low-passed over
+        seconds, and on BROAD 2-50 Hz give the same errors within 0.05°.
+    offline_time_factor : float
+        :func:`attitude_offline` learns the bias and scale in passes with ``tau_acc`` and ``tau_mag`` multiplied
+        by this, and low-passes the accelerometer forward and backward with ``tau_acc`` times this (a
+        zero-phase filter has no lag to pay for a longer time constant).  Default 1.5 (leave-one-group-out on
+        BROAD, benchmarks/bench_attitude.py).
+    offline_heading_tau : float
+        Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
+        Default 100 (leave-one-group-out on BROAD): with the bias smoothed, the 6D heading drifts only with what
+        is left of it, a ramp the local-linear fit follows, so the field can be averaged longer than online.
+    """
+
+    tau_acc: float = 3.5
+    tau_mag: float = 20.0
+    bias_sigma_init: float = 0.5 * _DEG
+    bias_forgetting_time: float = 100.0
+    bias_noise_motion: float = 0.18 * _DEG
+    bias_noise_rate_factor: float = 6e-4
+    bias_noise_rest: float = 0.0018 * _DEG
+    bias_noise_acc_factor: float = 0.1
+    scale_sigma_init: float = 0.002
+    scale_noise: float = 1e-5
+    acc_bias_sigma_init: float = 0.0
+    acc_bias_noise: float = 1e-4
+    bias_noise_mag: float = 1.8 * _DEG
+    rest_gyro: float = 2.0 * _DEG
+    rest_acc: float = 0.5
+    rest_time: float = 1.5
+    rest_tau: float = 0.5
+    bias_limit: float = 2.0 * _DEG
+    mag_norm_threshold: float = 0.1
+    mag_dip_threshold: float = 10.0 * _DEG
+    mag_ref_tau: float = 20.0
+    mag_current_tau: float = 0.05
+    mag_new_time: float = 20.0
+    mag_start_time: float = 2.0
+    update_rate: float = 5.0
+    offline_time_factor: float = 1.5
+    offline_heading_tau: float = 100.0
+
+    def __post_init__(self):
+        zero_ok = {
+            "bias_noise_acc_factor",
+            "bias_noise_rate_factor",
+            "scale_sigma_init",
+            "scale_noise",
+            "acc_bias_sigma_init",
+            "acc_bias_noise",
+            "bias_noise_mag",
+            "rest_time",
+        }
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if not isinstance(v, Real) or isinstance(v, (bool, np.bool_)) or not np.isfinite(v):
+                raise ValueError(f"{f.name} must be a finite number, got {v!r}")
+            if v < 0 or (v == 0 and f.name not in zero_ok):
+                raise ValueError(f"{f.name} must be {'non-negative' if f.name in zero_ok else 'positive'}, got {v!r}")
+        if self.mag_dip_threshold > np.pi:  # 10 meant as degrees would switch the dip test off unnoticed
+            raise ValueError(f"mag_dip_threshold is in radians, at most π; got {self.mag_dip_threshold!r}")
+
+    def _vector(self) -> np.ndarray:
+        """The kernel's parameter vector (run() in _attitude_numba.py)."""
+        return np.array(
+            [
+                self.tau_acc,
+                self.tau_mag,
+                self.bias_sigma_init**2 / self.bias_forgetting_time,
+                self.scale_noise**2,
+                self.bias_noise_motion**2,
+                self.bias_noise_rate_factor**2,
+                self.bias_noise_rest**2,
+                self.bias_noise_mag**2,
+                self.rest_gyro**2,
+                self.rest_acc**2,
+                self.rest_time,
+                self.rest_tau,
+                self.bias_limit,
+                self.mag_norm_threshold,
+                self.mag_dip_threshold,
+                self.mag_ref_tau,
+                self.mag_current_tau,
+                self.mag_new_time,
+                1.0 / self.update_rate,
+                self.bias_noise_acc_factor**2,
+                self.mag_start_time,
+                self.acc_bias_noise**2 if self.acc_bias_sigma_init > 0 else 0.0,  # off: the states stay at 0
+            ]
+        )
+
+
+# named parts of the kernel's state vector (offsets in _attitude_numba.py)
+_LAYOUT = (
+    ("q_gyro", "QG", 4),
+    ("q_correction", "QC", 3),
+    ("acc_filter_rate", "AF", 3),
+    ("bias_scale", "X", 6),
+    ("regressor_filter", "REG", 28),
+    ("mag_regressors", "V7", 7),
+    ("block_sums", "ACC", 24),
+    ("block_time", "TB", 1),
+    ("correction_start", "EXS", 3),
+    ("rate_sum", "W2", 1),
+    ("mag_time", "NMAG", 1),
+    ("rest_gyro_mean", "RESTG", 3),
+    ("rest_acc_mean", "RESTA", 3),
+    ("rest_seconds", "REST", 1),
+    ("heading_offset", "DELTA", 1),
+    ("mag_reference", "MREF", 2),
+    ("mag_current", "MCUR", 2),
+    ("mag_previous", "MOLD", 2),
+    ("mag_disturbed_seconds", "DIST", 1),
+    ("mag_undisturbed_seconds", "UND", 1),
+    ("started", "STARTED", 1),
+    ("acc_gap_seconds", "TACC", 1),
+    ("acc_filter_output", "AFO", 3),
+    ("rest_gyro_variance", "RESTV", 1),
+    ("acc_start_seconds", "AINIT", 1),
+    ("acc_start_sum", "ASUM", 3),
+    ("acc_start_count", "ACNT", 1),
+    ("mag_updates", "MAGN", 1),
+    ("gyro_previous", "GPREV", 3),
+    ("nominal_interval", "NOMDT", 1),
+    ("linear_acc_seconds", "ALIN", 1),
+    ("linear_acc_filter", "RLP", 3),
+    ("linear_acc_filter_rate", "RLV", 3),
+    ("mag_start_seconds", "MCONF", 1),
+    ("acc_bias", "XA", 3),
+    ("rest_acc_last", "ALAST", 3),
+    ("linear_acc_block_sum", "ARES", 3),
+    ("gyro_steps_unnormalised", "QN", 1),
+)
+
+
+class AttitudeEstimator(Estimator):
+    """Streaming 6D/9D orientation estimator with gyro bias and scale-factor estimation (module notes).
+
+    Parameters
+    ----------
+    params : AttitudeParams or mapping, optional
+        Time constants, noise densities and thresholds (a mapping overrides the defaults by name).
+    q0 : array_like, shape (4,), optional
+        Initial attitude (sensor to ``frame``); by default from the first accelerometer (and magnetometer)
+        sample.
+    frame : str
+        Reference frame of ``q0`` and of the outputs (z up or down).
+
+    Notes
+    -----
+    ``update(gyr, acc, mag=None, *, dt=None, t=None, known_acc=None)``: gyro in rad/s (finite), accelerometer
+    in m/s², magnetic field in any unit; a NaN row in ``acc`` or ``mag`` means no sample of that sensor then;
+    ``known_acc`` is a kinematic acceleration to subtract from the accelerometer.  Sample k's accelerometer and
+    magnetometer readings are taken as those at the end of its gyro step; readings averaged over the step lag
+    by half a step, which matters only where half a step's rotation is large (10° at 2000°/s and 100 Hz).  The
+    :class:`~strapdown.fusion.Estimate` carries ``q``, ``bias`` (rad/s), ``flags`` (``FLAG_REST``,
+    ``FLAG_ACC_REJECTED`` for a missing accelerometer sample, ``FLAG_MAG_REJECTED`` while the field is
+    disturbed, ``FLAG_BIAS_AT_LIMIT`` while the bias lies beyond its prior's spread) and ``extra["bias_sigma"]``,
+    the bias's standard deviation per axis (rad/s).  ``.state`` reads and restores everything; ``.scale`` and
+    ``.bias_sigma`` give the current estimates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.fusion import AttitudeEstimator
+    >>> bias = np.radians([0.4, -0.3, 0.2])
+    >>> est = AttitudeEstimator().update(np.tile(bias, (1000, 1)), np.tile([0.0, 0.0, 9.81], (1000, 1)), dt=0.01)
+    >>> np.degrees(est.bias[-1]).round(3)      # learnt at rest within 10 s
+    array([ 0.4, -0.3,  0.2])
+    """
+
+    natural_frame = "ENU"
+    estimates_bias = True
+    reports_flags = True
+    missing_samples = True
+    compact_intervals = True
+    checks_in_kernel = True
+    # state layout, checked when a state is restored (fusion/_base.py): the kernel indexes it without bounds checks
+    # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
+    _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
+    _unit_keys = ("q", "q_gyro", "q_correction")
+    _optional_keys = ("gyro_steps_unnormalised",)  # new in this version: a state taken before starts it at 0
+
+    def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
+        super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
+
+    def update(self, gyr, acc, mag=None, *, dt=None, t=None, known_acc=None) -> Estimate:
+        """Process a chunk of samples; any chunking gives the same result.
+
+        Parameters
+        ----------
+        gyr : array_like, shape (N, 3)
+            Angular rate, rad/s.
+        acc : array_like, shape (N, 3)
+            Specific force, m/s² (NaN rows: no sample).
+        mag : array_like, shape (N, 3), optional
+            Magnetic field, any unit (NaN rows: no sample); 9D when given.
+        dt, t : optional
+            Seconds per sample, or sample times.
+        known_acc : array_like, shape (N, 3), optional
+            Kinematic acceleration to subtract from ``acc``, sensor axes, m/s²: for a body whose acceleration is
+            known from elsewhere (air data, wheel speed, GNSS), e.g. an aircraft in a coordinated turn, where the
+            accelerometer alone reads lift, not gravity.
+
+        Returns
+        -------
+        Estimate
+            Attitudes, bias, its standard deviation (``extra["bias_sigma"]``) and flags.
+        """
+        if known_acc is not None:
+            a = _v.vectors(acc, "acc", check=False, dtype=np.float64)  # NaN rows allowed; complex refused
+            known = _v.vectors(known_acc, "known_acc", dtype=np.float64)
+            if known.shape != a.shape:
+                raise ValueError(f"known_acc must have the shape of acc {a.shape}, got {known.shape}")
+            acc = a - known
+        return super().update(gyr, acc, mag, dt=dt, t=t)
+
+    # ----------------------------------------------------------------------------------------------------
+    @property
+    def bias(self) -> np.ndarray | None:
+        """The current gyro bias estimate, rad/s (sensor axes)."""
+        return None if self._state is None else self._state["bias_scale"][:3].copy()
+
+    @property
+    def scale(self) -> np.ndarray | None:
+        """The current gyro scale-factor error estimate (dimensionless: the gyro reads (1 + s) ω)."""
+        return None if self._state is None else self._state["bias_scale"][3:].copy()
+
+    @property
+    def acc_bias(self) -> np.ndarray | None:
+        """The current accelerometer bias estimate, m/s² (sensor axes; zero unless ``acc_bias_sigma_init`` > 0)."""
+        return None if self._state is None else self._state["acc_bias"].copy()
+
+    @property
+    def bias_sigma(self) -> np.ndarray | None:
+        """Standard deviation of the bias estimate, rad/s."""
+        return None if self._state is None else np.sqrt(np.diag(self._state["covariance"])[:3])
+
+    # ----------------------------------------------------------------------------------------------------
+    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
+        from . import _attitude_numba as k
+
+        p = self.params
+        s = np.zeros(k.SIZE)
+        s[k.QG : k.QG + 4] = q
+        s[k.QC] = 1.0
+        s[k.EXS] = 1.0
+        ka = _first_present(acc, "acc")
+        # the filter starts at the first sample (in the start's averaging, then at rest: rate 0); a first sample
+        # later than the first row is turned back to the sensor axes of the first row, which q is for
+        s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyr, dts, ka, acc[ka]))
+        s[k.RESTA : k.RESTA + 3] = acc[ka]
+        s[k.ALAST : k.ALAST + 3] = acc[ka]
+        s[k.MOLD] = -1.0
+        cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3 + [p.acc_bias_sigma_init**2] * 3)
+        state = {"q": q.copy(), "covariance": cov}
+        for name, off, size in _LAYOUT:
+            state[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
+        return state
+
+    def _run(self, gyr, acc, mag, dts, extra_in):
+        from . import _attitude_numba as k
+
+        n = gyr.shape[0]
+        st = self._state
+        s = np.empty(k.SIZE)
+        for name, off, size in _LAYOUT:
+            s[getattr(k, off) : getattr(k, off) + size] = st.get(name, 0.0)  # 0: an optional entry missing
+        P = np.ascontiguousarray(st["covariance"], dtype=np.float64).copy()
+        out = np.empty((n, 4))
+        flags = np.empty(n, dtype=np.uint8)
+        p = self.params._vector()
+        # Bias and sigma per block.  A block ends once its intervals sum to its length T (within 1e-9), so every
+        # block but the first (which may be under way from the last chunk) holds more than T / (2 dt_max) samples:
+        # with the unfinished last one, at most n // floor(T / (2 dt_max)) + 2 segments.  Buffers of that size,
+        # not n + 1, spare a call the (huge) pages it would fault in for one row in every few dozen.
+        longest = float(dts.max()) if n else 0.0
+        per_block = int(0.5 * p[18] / longest) if longest > 0.0 else 0
+        n_seg_max = n + 1 if per_block < 1 else min(n + 1, n // per_block + 2)
+        seg_end = np.empty(n_seg_max, dtype=np.int64)
+        seg_val = np.empty((2, n_seg_max, 3))  # bias, sigma
+        m = mag if mag is not None else np.zeros((1, 3))
+        squares = np.zeros(3)
+        n_seg = k.run(gyr, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
+        for name, off, size in _LAYOUT:
+            st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
+        st["covariance"] = P
+        if n:
+            st["q"] = out[-1].copy()
+        ends, vals = seg_end[:n_seg], seg_val[:, :n_seg]
+        if n_seg_max > 2 * n_seg + 2:  # views would keep a mostly unused buffer alive (long intervals): copies
+            ends, vals = ends.copy(), vals.copy()
+        segments = (ends, vals[0], {"bias_sigma": vals[1]})
+        return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
+
+
+def attitude(
+    gyr,
+    acc,
+    mag=None,
+    *,
+    dt=None,
+    t=None,
+    params: AttitudeParams | None = None,
+    q0=None,
+    frame: str = "ENU",
+    known_acc=None,
+) -> Estimate:
+    """Run the AttitudeEstimator over whole arrays (the batch form of :class:`AttitudeEstimator`).
+
+    Parameters
+    ----------
+    gyr : array_like, shape (N, 3)
+        Angular rate, rad/s.
+    acc : array_like, shape (N, 3)
+        Specific force, m/s² (NaN rows: no sample).
+    mag : array_like, shape (N, 3), optional
+        Magnetic field, any unit (NaN rows: no sample); 9D when given.
+    dt, t : optional
+        Seconds per sample, or sample times.
+    params : AttitudeParams or mapping, optional
+        Parameters (a mapping overrides the defaults by name).
+    q0 : array_like, shape (4,), optional
+        Initial attitude.
+    frame : str
+        Reference frame.
+    known_acc : array_like, shape (N, 3), optional
+        Kinematic acceleration to subtract from ``acc``, m/s².
+
+    Returns
+    -------
+    Estimate
+        Attitudes, bias, its standard deviation (``extra["bias_sigma"]``) and flags.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.fusion import attitude
+    >>> est = attitude(np.zeros((100, 3)), np.tile([0.0, 0.0, 9.81], (100, 1)), dt=0.01)
+    >>> est.q[-1].round(12)
+    array([1., 0., 0., 0.])
+    """
+    return AttitudeEstimator(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t, known_acc=known_acc)
+
+
+def _reverse(gyr, acc, mag, dt, t):
+    """Inputs for the backward pass: time reversed, rates negated, sample j covering forward interval n - j."""
+    n = gyr.shape[0]
+    g = np.zeros_like(gyr)
+    g[1:] = -gyr[:0:-1]
+    a = np.ascontiguousarray(acc[::-1])
+    m = None if mag is None else np.ascontiguousarray(mag[::-1])
+    if t is not None:
+        return g, a, m, None, -np.asarray(t, dtype=np.float64)[::-1]
+    d = np.asarray(dt, dtype=np.float64)
+    if d.ndim == 0:
+        return g, a, m, float(d), None
+    dr = np.empty(n)
+    dr[1:] = d[:0:-1]
+    dr[0] = d[0]
+    return g, a, m, dr, None
+
+
+def _align_heading(reference, q, w) -> np.ndarray:
+    """Turn q about the vertical by its weighted circular-mean heading offset from ``reference``."""
+    e = multiply(reference, q * np.array([1.0, -1.0, -1.0, -1.0]), check=False)  # q_ref ⊗ q*: the angle needs no norm
+    angle = 2.0 * np.arctan2(e[:, 3], e[:, 0])
+    offset = np.arctan2(np.sum(w * np.sin(angle)), np.sum(w * np.cos(angle)))
+    return multiply([np.cos(offset / 2), 0.0, 0.0, np.sin(offset / 2)], q, check=False)
+
+
+def attitude_offline(
+    gyr,
+    acc,
+    mag=None,
+    *,
+    dt=None,
+    t=None,
+    params: AttitudeParams | None = None,
+    frame: str = "ENU",
+    known_acc=None,
+) -> Estimate:
+    """Orientation from a whole recording, using the future as well as the past (module notes, step 6).
+
+    1. The estimator (9D with a magnetometer) runs forward and backward in time with ``tau_acc`` and
+       ``tau_mag`` multiplied by ``params.offline_time_factor``; at each sample the two bias estimates are
+       combined by inverse variance (two-filter smoother), and the scale is the mean of the passes' final ones.
+    2. The gyro corrected by that bias and scale gives one gyro frame for the whole record; the accelerometer
+       in it, low-passed forward and then backward in time (zero phase, time constant ``tau_acc`` times
+       ``offline_time_factor``), gives the inclination.
+    3. With a magnetometer, the field is taken into that 6D frame and the heading that turns it north
+       is smoothed forward and backward in time by a local-linear fit (time constant
+       ``offline_heading_tau``), leaving out every sample either pass of step 1 flagged as magnetically
+       disturbed; the gaps are bridged by the samples around them.  If every sample is disturbed (a
+       magnetometer with uncalibrated hard iron, say), the 6D attitude is turned onto the forward
+       pass's mean heading instead.
+
+    Parameters
+    ----------
+    gyr, acc, mag, dt, t, frame
+        As for :func:`attitude` (the whole recording).
+    params : AttitudeParams or mapping, optional
+        Parameters, their online values (the factor is applied here); a mapping overrides the defaults by name.
+    known_acc : array_like, shape (N, 3), optional
+        Kinematic acceleration to subtract from ``acc``, m/s² (as for :func:`attitude`).
+
+    Returns
+    -------
+    Estimate
+        Attitudes, the smoothed bias (the two passes' estimates weighted by their inverse variances) with its
+        standard deviation (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest, missing
+        accelerometer and bias at the limit from the forward pass, magnetic disturbance from either.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.fusion import attitude_offline
+    >>> est = attitude_offline(np.zeros((300, 3)), np.tile([0.0, 0.0, 9.81], (300, 1)), dt=0.01)
+    >>> est.q[0].round(12), est.q[-1].round(12)
+    (array([1., 0., 0., 0.]), array([1., 0., 0., 0.]))
+    """
+    from ..rotations.frames import frame_quaternion
+    from ._attitude_numba import smooth_directions
+    from ._offline_numba import zero_phase_6d
+
+    p = params_of(AttitudeParams, params, "attitude")
+    f = p.offline_time_factor
+    po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
+    g = _v.vectors(gyr, "gyr", dtype=np.float64)
+    # shape and dtype here (NaN rows mean no sample; the forward pass checks the values): a complex acc lost its
+    # imaginary part in asarray, and a scalar mag (attitude_offline(g, a, 0.5)) gave an IndexError
+    a = _v.vectors(acc, "acc", check=False, dtype=np.float64)
+    m = None if mag is None else _v.vectors(mag, "mag", check=False, dtype=np.float64)
+    # 1. the bias and scale: forward and backward passes, combined per sample by inverse variance (the
+    # two-filter smoother: each pass has seen one side of the sample, independently)
+    first = AttitudeEstimator(po)  # ENU: the heading arithmetic below is in ENU
+    fwd = first.update(g, a, m, dt=dt, t=t, known_acc=known_acc)  # validates every input before anything else
+    if known_acc is not None:
+        a = a - np.asarray(known_acc, dtype=np.float64)  # validated by the forward pass
+    if g.shape[0] == 0:  # nothing to smooth
+        empty = AttitudeEstimator(po, frame=frame).update(g, a, m, dt=dt, t=t)
+        empty.extra = {"bias_sigma": np.zeros((0, 3))}
+        return empty
+    gr, ar, mr, dtr, tr = _reverse(g, a, m, dt, t)
+    back = AttitudeEstimator(po)
+    bwd = back.update(gr, ar, mr, dt=dtr, t=tr)
+    sigma_f, sigma_b = fwd.extra["bias_sigma"], bwd.extra["bias_sigma"][::-1]
+    info_f, info_b = 1.0 / np.maximum(sigma_f, 1e-12) ** 2, 1.0 / np.maximum(sigma_b, 1e-12) ** 2
+    bias = (info_f * fwd.bias - info_b * bwd.bias[::-1]) / (info_f + info_b)  # the backward rates are negated
+    sigma = 1.0 / np.sqrt(info_f + info_b)
+    scale = 0.5 * (first.scale + back.scale)  # each pass's final estimate has seen the whole record
+    # 2. the inclination: the gyro frame of the gyro corrected by the smoothed bias and scale (and the accelerometer
+    # by the passes' accelerometer bias, zero unless modelled), corrected by the accelerometer in that frame
+    # low-passed forward and backward in time (zero phase: _offline_numba.py)
+    corrected = g - bias - scale * g
+    a6 = np.ascontiguousarray(a - 0.5 * (first.acc_bias + back.acc_bias))
+    n = g.shape[0]
+    dts = np.zeros(n)  # the interval ending at each sample; the first attitude is the one at the first sample
+    dts[1:] = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else np.broadcast_to(dt, (n,))[1:]
+    intervals = dts[1:]
+    q = np.empty((n, 4))
+    zero_phase_6d(corrected, a6, dts, np.ascontiguousarray(fwd.q[0], dtype=np.float64), po.tau_acc, q)
+    flags = fwd.flags.copy()
+    if m is not None:
+        disturbed = ((fwd.flags | bwd.flags[::-1]) & FLAG_MAG_REJECTED) > 0
+        h = rotate(q, np.nan_to_num(m))
+        psi = np.arctan2(h[:, 0], h[:, 1])  # the heading offset that turns the field north (+y of ENU)
+        weight = (~disturbed & np.isfinite(m[:, 0])).astype(np.float64)
+        if weight.any():
+            # local-linear: the 6D passes cannot see a vertical gyro bias, so psi drifts in a ramp, which an
+            # exponential mean would lag by tau_mag times its slope at both ends of the record
+            smooth = smooth_directions(
+                np.column_stack([np.cos(psi), np.sin(psi)]), weight, np.r_[0.0, intervals], p.offline_heading_tau
+            )
+            delta = np.arctan2(smooth[:, 1], smooth[:, 0])
+            q = multiply(np.column_stack([np.cos(delta / 2), 0 * delta, 0 * delta, np.sin(delta / 2)]), q, check=False)
+        else:  # disturbed everywhere (an uncalibrated magnetometer): keep the forward 9D pass's mean heading
+            q = _align_heading(fwd.q, q, np.ones(n))
+        flags = (fwd.flags & np.uint8(0xFF ^ FLAG_MAG_REJECTED)) | np.where(disturbed, FLAG_MAG_REJECTED, 0).astype(
+            np.uint8
+        )
+    if frame != "ENU":
+        q = multiply(frame_quaternion("ENU", frame), q, check=False)
+    est = Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})
+    return float32_if(est, gyr, acc, mag)  # float32 in, float32 out (computed in float64)

@@ -1,0 +1,38 @@
+"""What a reader module declares about its format: how to recognise it and how to open it."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+__all__ = ["Format"]
+
+
+@dataclass(frozen=True)
+class Format:
+    """How to recognise and open one input format.
+
+    Attributes
+    ----------
+    name : str
+        The name users give (``--in-format``).
+    open : callable
+        ``open(path, **options) -> Source``.
+    suffixes : tuple of str
+        File suffixes (lower case, with the dot) that mean this format.
+    detect : callable, optional
+        ``detect(path) -> bool`` for folders, zips and files whose suffix says nothing; tried before suffixes
+        for folders and zips, after them for files.
+    options : tuple of str
+        The options ``open`` accepts besides the path (``"topic"``).
+    table : bool
+        A plain table that :func:`strapdown.io.write_table` also writes (csv, parquet, hdf5, mat).
+    """
+
+    name: str
+    open: Callable
+    suffixes: tuple = ()
+    detect: Callable | None = None
+    options: tuple = ()
+    table: bool = False
+    description: str = field(default="", compare=False)

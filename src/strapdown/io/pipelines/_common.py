@@ -1,0 +1,238 @@
+"""What every file command shares: the report, output paths, metadata and messages naming file rows."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..._support.version import VERSION
+from ..imu import ImuColumns
+from ..readers import check_chunk_rows, format_of
+from ..tables import OutputSpec
+
+CHUNK_ROWS = 1 << 18  # rows in flight: about 400 bytes of memory each, and no speed to gain beyond
+
+
+#: What a file command may do at a time step over ``columns.max_gap`` sample periods.
+ON_GAP = ("error", "split", "restart")
+
+
+@dataclass(frozen=True)
+class FileOptions:
+    """What every file command takes besides its input and output: how to read it and what to write.
+
+    Attributes
+    ----------
+    columns : ImuColumns
+        Column mapping and units (detected where left out), the gap limit ``max_gap``.
+    out : OutputSpec
+        Euler angles, bias, flags and format of the output.
+    frame : str, optional
+        Reference frame of the output (``"ENU"``, ``"NED"``, ``"NWU"``, ...); by default the input format's
+        preset (a PX4 log is NED).
+    body : str, optional
+        Axes of the readings (``"FRD"``, ``"FLU"``, ...); by default the format's preset, else taken to be
+        ``out_body``.  Readings are re-expressed in ``out_body`` before anything uses them.
+    out_body : str, optional
+        Body axes of the output attitudes; by default those that go with ``frame``
+        (:func:`strapdown.io.conventions.natural_body`: FRD for NED, FLU for ENU and NWU), so that a level
+        vehicle has zero roll and pitch.
+    on_gap : {"error", "split", "restart"}
+        A time step over ``columns.max_gap`` sample periods: a ValueError (default); a new output file per
+        segment (``<stem>-2.csv`` ...) started afresh; or one file started afresh after each gap, with a
+        ``segment`` column.
+    chunk_rows : int
+        Rows per chunk: memory, not results (every chunking gives the same output).
+    """
+
+    columns: ImuColumns = ImuColumns()
+    out: OutputSpec = OutputSpec()
+    frame: str | None = None
+    body: str | None = None
+    out_body: str | None = None
+    on_gap: str = "error"
+    chunk_rows: int = CHUNK_ROWS
+
+    def __post_init__(self):
+        # None stands for the defaults (the command line passes what it was not given as None)
+        if self.columns is None:
+            object.__setattr__(self, "columns", ImuColumns())
+        if self.out is None:
+            object.__setattr__(self, "out", OutputSpec())
+        if self.on_gap not in ON_GAP:
+            raise ValueError(f"on_gap must be one of {', '.join(ON_GAP)}, got {self.on_gap!r}")
+        object.__setattr__(self, "chunk_rows", check_chunk_rows(self.chunk_rows))
+
+
+def options_of(cls, options, changes: dict, command: str):
+    """``options`` (an instance of ``cls``, or None for the defaults) with the fields of ``changes`` replaced."""
+    if options is None:
+        options = cls()
+    elif not isinstance(options, cls):
+        raise TypeError(f"{command}'s options must be a {cls.__name__}, got {type(options).__name__}")
+    names = {f.name for f in fields(cls)}
+    unknown = sorted(set(changes) - names)
+    if unknown:
+        raise TypeError(f"{command} takes no option {', '.join(unknown)}; its options: {', '.join(sorted(names))}")
+    return replace(options, **changes) if changes else options
+
+
+#: Called after each chunk with (rows done, total rows or None).
+Progress = Callable[[int, int | None], None]
+
+
+@dataclass
+class Report:
+    """What a file command did.
+
+    Attributes
+    ----------
+    input, output : pathlib.Path or None
+        The files.
+    rows : int
+        Rows written.
+    seconds : float
+        Wall time.
+    read : str
+        Which columns were read, in which units.
+    notes : list of str
+        What a user should know: frames, gaps, warnings (lines starting with ``warning:``).
+    outputs : list of pathlib.Path
+        Every file written (several with ``on_gap="split"``).
+    """
+
+    input: Path | None
+    output: Path
+    rows: int
+    seconds: float
+    read: str = ""
+    notes: list = field(default_factory=list)
+    outputs: list = field(default_factory=list)
+
+
+def default_output(input, command: str, format: str | None = None) -> Path:
+    """The output beside ``input``: ``<stem>.<command>.<csv|parquet>`` (CSV unless the input is Parquet).
+
+    Parameters
+    ----------
+    input : path-like
+        The input file.
+    command : str
+        ``"integrate"``, ``"estimate"``, ``"convert"``.
+    format : {"csv", "parquet", "hdf5", "mat"}, optional
+        The output format.
+
+    Returns
+    -------
+    pathlib.Path
+        The output path.
+
+    Examples
+    --------
+    >>> from strapdown.io.pipelines import default_output
+    >>> str(default_output("logs/a.parquet", "estimate")), str(default_output("b.mat", "integrate"))
+    ('logs/a.estimate.parquet', 'b.integrate.csv')
+    """
+    input = Path(input)
+    if format is None:
+        try:
+            format = "parquet" if format_of(input) == "parquet" else "csv"
+        except ValueError:
+            format = "csv"
+    suffix = {"csv": ".csv", "parquet": ".parquet", "hdf5": ".h5", "mat": ".mat"}[format]
+    return input.with_name(f"{input.stem}.{command}{suffix}")
+
+
+def metadata(command: str, **items) -> dict:
+    meta = {"strapdown_version": VERSION, "strapdown_command": command}
+    meta.update({k: str(v) for k, v in items.items() if v is not None})
+    return meta
+
+
+def with_progress(chunks: Iterator, total: int | None, progress: Progress | None):
+    done = 0
+    for chunk in chunks:
+        yield chunk
+        done += len(chunk)
+        if progress is not None:
+            progress(done, total)
+
+
+def input_paths(path) -> list[Path]:
+    """The files of one recording: one path, or the list of several (one per sensor)."""
+    return [Path(p) for p in path] if isinstance(path, list | tuple) else [Path(path)]
+
+
+def output_path(path, output, command: str, format: str | None) -> Path:
+    inputs = [] if path is None else input_paths(path)
+    if output is not None:
+        out = Path(output)
+    elif len(inputs) > 1:  # one file per sensor: the output is named after their folder, beside them
+        folder = inputs[0].parent
+        out = default_output(folder / f"{folder.resolve().name or 'recording'}.csv", command, format)
+    else:
+        out = default_output(path, command, format)
+    if any(out.resolve() == p.resolve() for p in inputs):
+        raise ValueError(f"the output {out} is the input file; choose another output (-o)")
+    return out
+
+
+#: Readings of a common size in SI units, to find the one most out of scale: rad/s (or rad), m/s², µT.
+_TYPICAL = {"gyro": 1.0, "acc": 9.81, "mag": 50.0}
+
+
+_SI = {"gyro": "rad/s", "acc": "m/s²", "mag": "µT"}
+
+
+def culprit(imu, chunk, row: int | None = None) -> str:
+    """The reading of a chunk (or of one of its rows) most out of scale, by line and column, for messages.
+
+    A non-finite reading comes first, then the largest relative to its quantity's usual size.  The unit check
+    looks at a percentile of the first rows, so one absurd value further on gets through it and fails in the
+    integrator or the filter, whose words name their own arrays: this names the file's line and column instead.
+    """
+    best = None
+    for kind, typical in _TYPICAL.items():
+        v = getattr(chunk, kind, None)
+        if v is None or kind not in imu.picks or not len(v):
+            continue
+        part = v if row is None else v[row : row + 1]
+        size = np.abs(part) / typical  # inf stays inf
+        # NaN: no sample of a slower sensor on the gyro's rows (imu.sparse), otherwise a reading gone wrong
+        size[np.isnan(size)] = 0.0 if kind in (getattr(imu, "sparse", None) or ()) else np.inf
+        i, j = np.unravel_index(int(np.argmax(size)), size.shape)
+        if best is None or size[i, j] > best[0]:
+            best = (size[i, j], kind, i + (row or 0), j)
+    if best is None:
+        return "no reading"
+    _, kind, i, j = best
+    fields = imu.picks[kind].fields
+    column = fields[j] if len(fields) == 3 else f"{fields[0]}[{j}]"
+    unit = "rad" if kind == "gyro" and getattr(imu, "increments", False) else _SI[kind]
+    return f"{imu.where(chunk.row + i)}, column {column} = {getattr(chunk, kind)[i, j]:.4g} {unit}"
+
+
+def rows_text(imu, chunk) -> str:
+    """The rows of a chunk as a user finds them ("lines 2 to 201" in a CSV file), and its worst reading."""
+    if chunk is None:
+        return "its first rows"
+    first, last = imu.where(chunk.row), imu.where(chunk.row + len(chunk) - 1)
+    return (
+        f"{first.split()[0]}s {first.split()[-1]} to {last.split()[-1]} (the reading most out of scale there: "
+        f"{culprit(imu, chunk)})"
+    )
+
+
+def slice_chunk(chunk, a: int, b: int):
+    from ..imu import ImuChunk
+
+    if (a, b) == (0, len(chunk)):
+        return chunk
+    part = ImuChunk(chunk.row + a, chunk.t[a:b], chunk.gyro[a:b])
+    part.acc = None if chunk.acc is None else chunk.acc[a:b]
+    part.mag = None if chunk.mag is None else chunk.mag[a:b]
+    part.extra = {k: v[a:b] for k, v in chunk.extra.items()}
+    return part

@@ -1,0 +1,282 @@
+"""``strapdown estimate``: an estimator run over a file, streaming."""
+
+from __future__ import annotations
+
+import inspect
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .._ahead import ReadAhead
+from ..conventions import output_metadata, resolve_axes
+from ..imu import ImuFile
+from ..tables import _attitude_columns, flag_bits
+from ._common import (
+    FileOptions,
+    Report,
+    culprit,
+    input_paths,
+    metadata,
+    options_of,
+    output_path,
+    rows_text,
+    with_progress,
+)
+from ._segments import Segments
+
+
+def estimator_inputs(cls) -> tuple[str, ...]:
+    """The extra keyword inputs an estimator's ``update`` takes (``known_acc``, ``pitch_roll``, ...).
+
+    Parameters
+    ----------
+    cls : type
+        An estimator class.
+
+    Returns
+    -------
+    tuple of str
+        Keyword-only parameters other than the timing.
+
+    Examples
+    --------
+    >>> from strapdown.fusion import Mahony, TiltEstimator
+    >>> from strapdown.io.pipelines import estimator_inputs
+    >>> estimator_inputs(TiltEstimator), estimator_inputs(Mahony)
+    (('known_acc', 'pitch_roll'), ())
+    """
+    sig = inspect.signature(cls.update)
+    skip = {"dt", "t", "degrees"}
+    return tuple(n for n, p in sig.parameters.items() if p.kind is inspect.Parameter.KEYWORD_ONLY and n not in skip)
+
+
+@dataclass(frozen=True)
+class EstimateOptions(FileOptions):
+    """The options of :func:`estimate_file` (and ``strapdown estimate``), besides those of every file command.
+
+    Attributes
+    ----------
+    estimator : str
+        A key of :data:`strapdown.fusion.ESTIMATORS` (default: the AttitudeEstimator).
+    params : mapping or parameter object, optional
+        Parameters (a mapping overrides the defaults by name; validated).
+    mag : bool, optional
+        Use the magnetometer (9D): None uses it when the file has one and the estimator takes one; True
+        requires it; False leaves it out.
+    q0 : array_like, shape (4,), optional
+        Initial attitude in ``frame``; by default from the first sample.
+    calibration : mapping of str to strapdown.calibrate.Calibration, optional
+        Calibrations by sensor (``"gyroscope"``, ``"accelerometer"``, ``"magnetometer"``, as
+        :func:`strapdown.calibrate.load` returns them), applied to the readings in their own axes before
+        anything else.
+    declination : float, optional
+        Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
+        The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
+
+    The fields of :class:`FileOptions` (``columns``, ``out``, ``frame``, ``body``, ``out_body``, ``on_gap``,
+    ``chunk_rows``) apply too; ``columns.extra`` gives the estimator's further inputs (``known_acc``,
+    ``pitch_roll``).
+    """
+
+    estimator: str = "attitude"
+    params: object = None
+    mag: bool | None = None
+    q0: object = None
+    calibration: object = None
+    declination: float | None = None
+
+
+def estimate_file(path, output=None, options: EstimateOptions | None = None, *, progress=None, **changes) -> Report:
+    """Run an estimator of :data:`strapdown.fusion.ESTIMATORS` over a file and write its attitudes, streaming.
+
+    Parameters
+    ----------
+    path : path-like or sequence of path-like
+        A file with gyro and accelerometer (and magnetometer) readings in any input format, or one file per
+        sensor.
+    output : path-like, optional
+        Output file; by default ``<stem>.estimate.csv`` (``.parquet`` for Parquet input) beside the input.
+    options : EstimateOptions, optional
+        What to run and how to read and write (the defaults when None).
+    progress : callable, optional
+        Called with (rows done, total rows or None) after each chunk.
+    **changes
+        Fields of :class:`EstimateOptions` to replace, by name (``estimator="mahony"``).
+
+    Returns
+    -------
+    Report
+        Files, rows and time taken; ``notes`` holds the gaps and a warning when the bias sits at its limit.
+
+    Notes
+    -----
+    Output columns: ``t`` (s from the first sample), ``qw..qz``, Euler angles, ``bias_*`` (the unit in the
+    name), ``flags`` (bit mask of :func:`strapdown.io.tables.flag_bits`) and one boolean column per flag:
+    ``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``.  Metadata:
+    :mod:`strapdown.io.conventions`.
+
+    Examples
+    --------
+    >>> import numpy as np, pathlib, tempfile
+    >>> from strapdown.io import estimate_file, read_table, write_table
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> n = 500
+    >>> level = {"t": np.arange(n) * 0.01, "gx": np.zeros(n), "gy": np.zeros(n), "gz": np.zeros(n),
+    ...          "ax": np.zeros(n), "ay": np.zeros(n), "az": np.full(n, 9.81)}
+    >>> report = estimate_file(write_table(folder / "still.parquet", level), estimator="mahony")
+    >>> table = read_table(report.output)
+    >>> report.output.name, table["pitch_deg"][-1].round(9), table["roll_deg"][-1].round(9)
+    ('still.estimate.parquet', np.float64(0.0), np.float64(0.0))
+    """
+    t_start = time.perf_counter()
+    o = options_of(EstimateOptions, options, changes, "estimate_file")
+    run = _Estimation(o)
+    output = output_path(path, output, "estimate", o.out.format)
+    gap_limit = o.columns.max_gap if o.on_gap != "error" else 0
+    columns = replace(o.columns, max_gap=0) if o.on_gap != "error" else o.columns  # gaps are cut here
+    with ImuFile(path, columns, require=run.require, optional=run.optional) as imu:
+        meta = run.start(imu, path)
+        out = Segments(imu, output, o.out, gap_limit, o.on_gap, meta)
+        with out, ReadAhead(imu.chunks(o.chunk_rows)) as chunks:
+            for seg, chunk in out.pieces(with_progress(chunks, imu.rows, progress)):
+                out.write(seg, run.chunk(imu, path, out, seg, chunk))
+        report = Report(input_paths(path)[0], out.outputs[0], out.rows, time.perf_counter() - t_start, imu.describe())
+        report.notes.append(f"{o.estimator} {'9D' if run.use_mag else '6D'}, {run.axes.describe()}")
+        report.notes.extend(out.notes)
+        report.outputs = out.outputs
+        return report
+
+
+class _Estimation:
+    """One estimator over the chunks of a file: what it needs from the file, and each chunk's output columns."""
+
+    def __init__(self, o: EstimateOptions):
+        from ...calibrate import by_sensor
+        from ...fusion.registry import ESTIMATORS, make_params
+
+        self.o = o
+        self.params = make_params(o.estimator, o.params)  # also rejects an unknown estimator, listing the known ones
+        self.cls, _, takes_mag = ESTIMATORS[o.estimator]
+        allowed = estimator_inputs(self.cls)
+        for name, _ in o.columns.extra:
+            if name not in allowed:
+                listing = ", ".join(allowed) or "none"
+                raise ValueError(f"{o.estimator} takes no input {name!r} (--extra); its extra inputs: {listing}")
+        if o.mag and not takes_mag:
+            raise ValueError(f"{o.estimator} does not take a magnetometer (6D only): leave out --mag / --9d")
+        extra_names = [name for name, _ in o.columns.extra]
+        self.require = ("gyro",) + (() if "pitch_roll" in extra_names else ("acc",)) + (("mag",) if o.mag else ())
+        self.optional = ("mag",) if (takes_mag and o.mag is None) else ()
+        self.limit = getattr(self.params, "bias_limit", None)
+        self.calibrations = by_sensor(o.calibration)
+        self.est = None
+        self.warned = False
+
+    def start(self, imu, path) -> dict:
+        """Check the file against the estimator and calibrations; the output's metadata."""
+        o = self.o
+        sparse = set(getattr(imu, "sparse", ()) or ())
+        if sparse and not self.cls.missing_samples:
+            raise ValueError(
+                f"{path}: the {' and '.join(sorted(sparse))} readings come at a lower rate than the gyro (rows "
+                f"without a sample); {o.estimator} needs a sample of every sensor on every row: use -e attitude, "
+                "which takes rows without a sample"
+            )
+        self.axes = resolve_axes(imu, o.frame, o.body, o.out_body)
+        self.use_mag = "mag" in imu.picks
+        check_axes(self.calibrations, self.axes.sensor, self.axes.declared)
+        meta = metadata("estimate", estimator=o.estimator, mode="9D" if self.use_mag else "6D")
+        meta.update(heading_metadata(self.use_mag, o.declination, self.calibrations))
+        meta.update(self.axes.metadata())
+        meta.update(output_metadata(o.out, bias=self.cls.estimates_bias, flags=self.cls.reports_flags))
+        return meta
+
+    def chunk(self, imu, path, out: Segments, seg: int, chunk) -> dict:
+        """The output columns of one chunk of one segment (a new segment starts the estimator afresh)."""
+        o, axes = self.o, self.axes
+        if seg != out.segment_of_estimator:
+            # a new segment starts from its own first sample; q0 is the first segment's only
+            self.est = self.cls(self.params, q0=o.q0 if self.est is None else None, frame=axes.frame)
+            out.segment_of_estimator = seg
+        timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
+        extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
+        gyro, acc, mag = calibrated(self.calibrations, chunk.gyro, chunk.acc, chunk.mag if self.use_mag else None)
+        mag = axes.rotate(mag) if self.use_mag else None
+        try:
+            e = self.est.update(axes.rotate(gyro), axes.rotate(acc), mag, **timing, **extra)
+        except ValueError as exc:  # the estimator's own words name its arrays, not the file
+            k = getattr(exc, "sample", None)  # strapdown._support.validate.SampleError: one sample of the chunk
+            where = rows_text(imu, chunk) if k is None else imu.where(chunk.row + k)
+            raise ValueError(f"{path}: {o.estimator} failed at {where}: {exc}") from None
+        lost = np.flatnonzero(~np.isfinite(e.q).all(axis=1))
+        if lost.size:
+            raise ValueError(
+                f"{path}: the {o.estimator} estimator lost the attitude at {culprit(imu, chunk, int(lost[0]))}: a "
+                "reading that large is not plausible; check that row and the units"
+            )
+        at_limit = self._at_limit(e, imu, out, chunk)
+        q = e.q
+        if o.declination is not None:
+            from ...calibrate import to_true_north
+
+            q = to_true_north(q, o.declination, frame=axes.frame)
+        return _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
+
+    def _at_limit(self, e, imu, out: Segments, chunk):
+        """Rows whose bias sits at ``bias_limit``; the first one is named once in the notes."""
+        if not self.limit or e.bias is None:
+            return None
+        # Mahony-type filters clip each axis at bias_limit (a bias there says the limit, not the gyro);
+        # the AttitudeEstimator and TiltEstimator treat it as a prior's bound and set the flag bit
+        at_limit = (np.abs(e.bias) >= self.limit * (1.0 - 1e-9)).any(axis=1)
+        if e.flags is not None:
+            at_limit |= (np.asarray(e.flags) & flag_bits()["bias_at_limit"]) != 0
+        if at_limit.any() and not self.warned:
+            self.warned = True
+            i = int(np.argmax(at_limit))
+            out.notes.append(_bias_warning(e.bias[i], self.limit, out.t(chunk)[i], imu.where(chunk.row + i)))
+        return at_limit
+
+
+def _bias_warning(bias, limit: float, t: float, where: str) -> str:
+    axis = "xyz"[int(np.argmax(np.abs(bias)))]
+    return (
+        f"warning: the gyro bias estimate reached bias_limit = {np.degrees(limit):.3g} deg/s (clipped there, or past "
+        f"the bound of the estimator's prior) on the {axis} axis at "
+        f"t = {t:.6g} s ({where}); the bias_at_limit column says where.  A bias that large is beyond what the "
+        "estimator assumes of the sensor: check the gyro's unit (--gyro-unit), or raise -p bias_limit_deg_s=..."
+    )
+
+
+def check_axes(cal: dict, sensor: str, declared: str) -> None:
+    """Refuse a calibration fitted in other named axes than the readings'.
+
+    Its matrix and offset would act on the wrong components.  A calibration fitted in unnamed axes ("sensor")
+    and readings whose axes are only assumed pass.
+    """
+    for c in cal.values():
+        if c.frame != "sensor" and declared != "assumed" and c.frame != sensor:
+            raise ValueError(
+                f"the {c.sensor} calibration was fitted in {c.frame} axes, but these readings are in {sensor} axes "
+                f"({declared}): fit it on readings in {sensor} axes, or give --body {c.frame} if that is what the "
+                "file holds"
+            )
+
+
+def calibrated(cal: dict, gyro, acc, mag):
+    """Rates (rad/s, not increments), specific force and field with each sensor's calibration applied."""
+    pairs = (("gyroscope", gyro), ("accelerometer", acc), ("magnetometer", mag))
+    return tuple(x if x is None or s not in cal else cal[s].apply(x) for s, x in pairs)
+
+
+def heading_metadata(use_mag: bool, declination, cal: dict) -> dict:
+    """What the output's heading refers to, for the file's metadata; refuses a declination without magnetometer."""
+    if declination is not None and not use_mag:
+        raise ValueError("a declination needs the magnetometer (9D): a 6D heading has no north to correct")
+    items = {
+        "heading": ("true" if declination is not None else "magnetic") if use_mag else "free",
+        "declination_deg": None if declination is None else float(np.degrees(declination)),
+        "calibration": ", ".join(sorted(cal)) or None,
+    }
+    return {k: str(v) for k, v in items.items() if v is not None}  # metadata values are text

@@ -1,0 +1,948 @@
+"""Attitude from angular rates: every classic propagation method, batch and streaming.
+
+Timing convention
+-----------------
+N gyro samples make N steps and N + 1 attitudes, ``q[0] = q0``.  Step k runs from ``t[k]`` to ``t[k+1]`` and
+uses sample k; ``q[k+1]`` is the attitude at ``t[k+1]``.  The times come from a scalar ``dt`` (``t[k] = k dt``),
+a per-step ``dt`` array, or the N + 1 times ``t`` themselves (any spacing, strictly increasing).
+
+What a sample is (``input=``) and how each method reads it:
+
+===============  ===========================================  ==========================================
+input            sample k is                                  methods that need ω(t) inside the step
+===============  ===========================================  ==========================================
+``"rate"``       the instantaneous rate at ``t[k]``, the      rk4, coning*, baselines: the cubic through
+                 start of step k (rad/s)                      the four nearest samples (fourth order)
+``"average"``    the mean rate over step k (rad/s), the       constant over the step
+                 usual output of a filtered MEMS gyro
+``"increment"``  the angle increment ∫ω dt over step k (rad)  constant over the step (= Δθ / h)
+===============  ===========================================  ==========================================
+
+exact, first-order, second-order and cayley hold sample k constant over step k (Gajda's assumption): that is
+exact for increments and averages and globally second order for smooth motion, but only first order when the
+samples are start-of-step instants (math.md §7).  The coning methods turn rate samples into increments by
+integrating the cubic, and are fourth order on smooth motion from rates and from increments alike.
+
+The methods (``method=``)::
+
+    ``"exact"``            Gajda stages 2-3: ``q ⊗ exp(φ/2)``, φ = ω h; a Taylor series in |φ/2|² replaces sqrt, sin
+                           and cos for |φ|/2 < 0.25 (exact to double precision), φ = 0 needs no division.
+    ``"first-order"``      nabbla part 9: ``q ⊗ (1 + φ/2)``; angle error (|φ|)³/12 per step after normalising.
+    ``"second-order"``     Taylor: ``q ⊗ ((1 - |φ|²/8) + φ/2)``; angle error (|φ|)³/24 per step.
+    ``"cayley"``           ``q ⊗ (1 + φ/4)(1 - φ/4)⁻¹``, unit norm by construction; error (|φ|)³/48 per step.
+    ``"rk4"``              classical RK4 on ``q̇ = ½ q ⊗ ω(t)``; renormalised; fourth order from rate samples.
+    ``"coning2"``          two-sample rotation vector ``φ = Δθ1 + Δθ2 + ⅔ Δθ1×Δθ2`` per pair of samples (default for
+                           increments: fourth order on any smooth motion, math.md §6.4).
+    ``"coning3"``..``6``   coning-optimised N-sample sets (math.md §6.2), best under pure coning.
+    ``"coning3-poly"``,    polynomial-rate sets, exact for quadratic / cubic rates (math.md §6.2).
+    ``"coning4-poly"``
+    ``"coning1-prev"``     one update per sample, ``φ_k = Δθ_k + (1/12) Δθ_{k-1}×Δθ_k``.
+    ``"euler-angles"``,    Gajda's classic alternatives (1.6, 1.5, 1.3, 1.4) as baselines with their own state,
+    ``"dcm"``,             integrated by RK4 (``scheme="euler"``: first order) over the same rate model; steps
+    ``"euler-parameters"``,near their singular sets are reported (``on_singular=``), never returned silently.
+    ``"rotation-vector"``
+
+Reference-frame rates (``rate_frame="reference"``, the patent's eq. 29) update on the left,
+``q_{k+1} = dq ⊗ q_k``.  They are integrated as the conjugate problem: ``q*`` obeys the body-rate equation with
+the rates negated, so every quaternion method serves both frames with the same code.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._support import threads as _threads
+from .._support import validate as _v
+
+__all__ = ["METHODS", "AttitudeIntegrator", "SingularityError", "integrate"]
+
+
+class SingularityError(RuntimeError):
+    """A baseline method (Euler angles, Euler parameters, rotation vector) reached its singular set."""
+
+
+_STEP_KINDS = {"exact": 0, "first-order": 1, "second-order": 2, "cayley": 3}
+_BASELINES = {"euler-angles": 0, "dcm": 1, "euler-parameters": 2, "rotation-vector": 3}
+_NORMALIZE = {"none": 0, "exact": 1, "series": 2}
+
+# Coning-optimised sets (math.md §6.2; PSINS glv.cs): φ = ΣΔθ + (Σ_{i<N} k_i Δθ_i) × Δθ_N.
+_CONING_OPTIMISED = {
+    2: [2 / 3],
+    3: [9 / 20, 27 / 20],
+    4: [54 / 105, 92 / 105, 214 / 105],
+    5: [250 / 504, 525 / 504, 650 / 504, 1375 / 504],
+    6: [2315 / 4620, 4558 / 4620, 7296 / 4620, 7834 / 4620, 15797 / 4620],
+}
+
+
+def _coning_table(method: str) -> tuple[np.ndarray, float]:
+    """(K, c_prev) with φ = ΣΔθ_i + Σ_{i<j} K[i, j] Δθ_i × Δθ_j + c_prev Δθ_prev × Δθ_1."""
+    if method == "coning1-prev":
+        return np.zeros((1, 1)), 1 / 12
+    if method == "coning3-poly":  # (33/80) Δθ1×Δθ3 + (57/80) Δθ2×(Δθ3 - Δθ1)
+        k = np.zeros((3, 3))
+        k[0, 2] = 33 / 80
+        k[1, 2] = 57 / 80
+        k[0, 1] = 57 / 80
+        return k, 0.0
+    if method == "coning4-poly":
+        k = np.zeros((4, 4))
+        k[0, 1] = k[2, 3] = 736 / 945
+        k[0, 2] = k[1, 3] = 334 / 945
+        k[0, 3] = 526 / 945
+        k[1, 2] = 654 / 945
+        return k, 0.0
+    n = int(method[len("coning") :])
+    k = np.zeros((n, n))
+    k[: n - 1, n - 1] = _CONING_OPTIMISED[n]
+    return k, 0.0
+
+
+# The largest rotation of one step, rad: beyond it its angle is not known to 1 mrad in float64 (1e-3 / eps, the
+# limit quaternion.power uses), and the arithmetic of several methods overflows soon after.
+MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps
+
+_CONING = ["coning1-prev", "coning2", "coning3", "coning4", "coning5", "coning6", "coning3-poly", "coning4-poly"]
+METHODS = (*_STEP_KINDS, "rk4", *_CONING, *_BASELINES)
+
+
+@dataclass
+class IntegratorState:
+    """Everything an :class:`AttitudeIntegrator` carries between updates (read and set with ``state``).
+
+    Attributes
+    ----------
+    q : numpy.ndarray, shape (B, 4)
+        The attitude after the last emitted step (internal frame: conjugated for reference-frame rates).
+    steps_in, steps_out : int
+        Samples received and attitudes emitted so far.
+    t_end : float
+        End of the last received step, relative to ``t0`` (s); NaN for increments without times.
+    counter : int
+        Steps since the last renormalisation.
+    extra : dict
+        Method-specific arrays (coning group sums, baseline states, the sample buffer of the cubic model).
+    """
+
+    q: np.ndarray
+    steps_in: int = 0
+    steps_out: int = 0
+    t_end: float = 0.0
+    counter: int = 0
+    extra: dict = field(default_factory=dict)
+
+    def copy(self) -> IntegratorState:
+        """A deep copy (arrays included)."""
+        extra = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self.extra.items()}
+        return IntegratorState(self.q.copy(), self.steps_in, self.steps_out, self.t_end, self.counter, extra)
+
+
+class AttitudeIntegrator:
+    """Streaming attitude propagation: feed gyro chunks, get attitudes; any chunking gives the same result.
+
+    Parameters
+    ----------
+    method : str, optional
+        One of :data:`METHODS` (see the module notes).  Default ``"exact"`` for rates, ``"coning2"`` for
+        increments.
+    q0 : array_like, shape (4,) or (B, 4), optional
+        Initial attitude(s), body to reference; identity by default.  Normalised.
+    input : {"rate", "average", "increment"}
+        What a sample is (module notes).
+    rate_frame : {"body", "reference"}
+        Frame of the measured rates: body (gyros, right multiplication) or reference (left multiplication).
+    degrees : bool
+        Samples in deg/s (or deg for increments).
+    t0 : float
+        Time of ``q0`` in seconds; ``update(..., t=...)`` takes absolute step end times.
+    normalize : {"exact", "series", "none"}
+        Renormalisation of the propagated quaternion: divide by the norm, multiply by ``(3 - |q|²)/2``
+        (nabbla), or leave it.  Applied every ``normalize_every`` steps.  Baselines ignore it.
+    normalize_every : int
+        Steps between renormalisations.
+    parallel : bool, optional
+        Use the blocked prefix-product scan for exact, cayley, and first/second-order with exact
+        normalisation every step (or none).  ``None``: for single-body chunks of 32768 samples or more.  The
+        scan equals the sequential loop to rounding (1e-12 rad over 10⁷ steps), not bit for bit, and gives the
+        same bits on any number of threads.
+    threads : int or "auto", optional
+        Threads of the scan.  None: the ``STRAPDOWN_THREADS`` environment variable, else ``"auto"``, the cores
+        free right now (one on a busy machine, never more than the size pays for).  See
+        docs/guide/performance.md and :mod:`strapdown._support.threads`.
+    scheme : {"rk4", "euler"}
+        Integrator of the baselines' differential equations.
+    orthonormalize : bool
+        dcm baseline: re-orthonormalise the matrix every step.
+    on_singular : {"raise", "nan", "warn"}
+        What a baseline does at a step within ``singular_tol`` of its singular set: raise
+        :class:`SingularityError`, return NaN from that step on, or continue with a ``RuntimeWarning``.
+        The steps are listed in ``singular_steps`` in every case.
+    singular_tol : float
+        Distance (rad) from the singular set that counts as singular: pitch from ±90° (euler-angles), χ from
+        0 (euler-parameters), χ from 180° (rotation-vector).  Default 0.5°, where sec θ = 115.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown import AttitudeIntegrator
+    >>> gyro = np.tile([0.0, 0.0, np.pi / 2], (100, 1))      # 90 deg/s about z
+    >>> integ = AttitudeIntegrator("exact")
+    >>> first = integ.update(gyro[:40], dt=0.01)
+    >>> rest = integ.update(gyro[40:], dt=0.01)
+    >>> first.shape, rest.shape
+    ((40, 4), (60, 4))
+    >>> rest[-1].round(12)                                   # 90 deg about z after 1 s
+    array([0.70710678, 0.        , 0.        , 0.70710678])
+    """
+
+    def __init__(
+        self,
+        method: str | None = None,
+        *,
+        q0=None,
+        input: str = "rate",
+        rate_frame: str = "body",
+        degrees: bool = False,
+        t0: float = 0.0,
+        normalize: str = "exact",
+        normalize_every: int = 1,
+        parallel: bool | None = None,
+        threads: int | str | None = None,
+        scheme: str = "rk4",
+        orthonormalize: bool = False,
+        on_singular: str = "raise",
+        singular_tol: float = np.radians(0.5),
+    ):
+        self.input = _v.choice(input, "input", ("rate", "average", "increment"))
+        if method is None:
+            method = "coning2" if input == "increment" else "exact"
+        self.method = _v.choice(method, "method", METHODS)
+        self.rate_frame = _v.choice(rate_frame, "rate_frame", ("body", "reference"))
+        if self.rate_frame == "reference" and method in _BASELINES:
+            raise ValueError(
+                f"method {method!r} is one of Gajda's baselines, written for body rates (§1); "
+                "use a quaternion method for rate_frame='reference'"
+            )
+        self.normalize = _v.choice(normalize, "normalize", tuple(_NORMALIZE))
+        if not (isinstance(normalize_every, int | np.integer) and normalize_every >= 1):
+            raise ValueError(f"normalize_every must be a positive integer, got {normalize_every!r}")
+        self.normalize_every = int(normalize_every)
+        self.parallel = parallel
+        _threads.parse(threads, "threads")  # validated now; "auto" and None are decided per call
+        self.threads = threads
+        self.scheme = _v.choice(scheme, "scheme", ("rk4", "euler"))
+        self.orthonormalize = bool(orthonormalize)
+        self.on_singular = _v.choice(on_singular, "on_singular", ("raise", "nan", "warn"))
+        if not (np.isfinite(singular_tol) and singular_tol >= 0):
+            raise ValueError(f"singular_tol must be a finite angle >= 0 in radians, got {singular_tol!r}")
+        self.singular_tol = float(singular_tol)
+        self.scale = np.pi / 180 if degrees else 1.0
+        t0 = float(t0)
+        if not np.isfinite(t0):
+            raise ValueError(f"t0 must be finite, got {t0!r}")
+        self.t0 = t0
+        self._q0 = None if q0 is None else _v.quaternions(q0, "q0")
+        if self._q0 is not None and self._q0.ndim > 2:
+            raise ValueError(f"q0 must have shape (4,) or (B, 4), got {self._q0.shape}")
+        self._state: IntegratorState | None = None
+        self._dt_anchor: tuple[int, float, float] | None = None  # (step, t_rel, dt) for scalar-dt timing
+        self._finished = False
+        self.singular_steps: list[tuple[int, int]] = []
+        self._cubic = input == "rate" and (method == "rk4" or method in _CONING or method in _BASELINES)
+
+    # ----------------------------------------------------------------------------------------------------
+    # state
+    @property
+    def state(self) -> IntegratorState | None:
+        """A copy of the internal state (None before the first update); assign one to restore it."""
+        return None if self._state is None else self._state.copy()
+
+    @state.setter
+    def state(self, value: IntegratorState) -> None:
+        if not isinstance(value, IntegratorState):
+            raise ValueError("state must be an IntegratorState taken from an integrator of the same method")
+        self._state = self._checked_state(value)
+        self._dt_anchor = self._state.extra.get("dt_anchor")
+        self._finished = False
+
+    def _checked_state(self, value: IntegratorState) -> IntegratorState:
+        """A validated copy of ``value``: ValueError naming the entry unless it fits this integrator.
+
+        The kernels index the state's arrays and counters without bounds checks (a coning position of -5 writes
+        outside the group buffer), so everything is compared with a fresh state of the same layout first.
+        """
+        q = _v.quaternions(value.q, "state.q", dtype=np.float64)
+        if q.ndim != 2:
+            raise ValueError(f"state.q must have shape (B, 4), got {q.shape}")
+        ex = value.extra if isinstance(value.extra, dict) else {}
+        single, dtype = ex.get("single"), ex.get("dtype")
+        if not isinstance(single, bool | np.bool_) or (single and q.shape[0] != 1):
+            raise ValueError(f"state.extra['single'] must be a bool (True only for one body), got {single!r}")
+        if not (isinstance(dtype, np.dtype | type) and np.dtype(dtype) in (np.float32, np.float64)):
+            raise ValueError(f"state.extra['dtype'] must be float32 or float64, got {dtype!r}")
+        n_bodies = q.shape[0]
+        fresh = self._fresh_state(n_bodies, bool(single), dtype, q0=q)
+        want, have = set(fresh.extra) | {"dt_anchor"}, set(ex) | {"dt_anchor"}
+        if want != have:
+            raise ValueError(
+                f"state.extra has entries {sorted(have)}, but a {self.method!r} integrator with input={self.input!r} "
+                f"needs {sorted(want)}; take the state from an integrator of the same method"
+            )
+        counts = {}
+        for name in ("steps_in", "steps_out", "counter"):
+            counts[name] = _count(getattr(value, name), f"state.{name}")
+        steps_in, steps_out = counts["steps_in"], counts["steps_out"]
+        if steps_out > steps_in or (not self._cubic and steps_out != steps_in):
+            raise ValueError(f"state.steps_out ({steps_out}) does not fit state.steps_in ({steps_in})")
+        t_end = value.t_end
+        if not isinstance(t_end, float | int | np.floating | np.integer) or not (
+            np.isfinite(t_end) or (np.isnan(t_end) and self.input == "increment")
+        ):
+            raise ValueError(f"state.t_end must be a finite time in seconds, got {t_end!r}")
+        out = IntegratorState(q.copy(), steps_in, steps_out, float(t_end), counts["counter"], {})
+        if self._cubic:
+            # a step's interpolation window starts at most one sample before it, or at N - 4 at the end
+            latest = max(min(steps_out - 1, steps_in - 4), 0)
+            first = _count(ex["buf_first"], "state.extra['buf_first']")
+            if first > latest:
+                raise ValueError(f"state.extra['buf_first'] must be at most {latest} here, got {first}")
+        for key, ref in fresh.extra.items():
+            name = f"state.extra[{key!r}]"
+            v = ex[key]
+            if isinstance(ref, np.ndarray):
+                arr = np.asarray(v) if isinstance(v, np.ndarray | list | tuple) else None
+                if arr is None or arr.dtype.kind != ref.dtype.kind:
+                    raise ValueError(f"{name} must be a {ref.dtype} array, got {type(v).__name__}")
+                shape = list(ref.shape)
+                if key in ("buf_s", "buf_t"):  # the sample buffer: its length is steps_in - buf_first
+                    shape[1 if key == "buf_s" else 0] = steps_in - ex["buf_first"]
+                if list(arr.shape) != shape:
+                    raise ValueError(f"{name} must have shape {tuple(shape)}, got {arr.shape}")
+                # the baselines' own states may hold infinities by design (a rotation vector at 180 degrees);
+                # their distance to the singular set reports them
+                if key not in ("base", "last_q") and arr.dtype.kind == "f":
+                    _v.check_finite(arr, name)
+                out.extra[key] = arr.astype(ref.dtype, copy=True)
+            elif key in ("pos", "buf_first"):
+                out.extra[key] = _count(v, name)
+            else:
+                out.extra[key] = v
+        if "pos" in out.extra and out.extra["pos"] != steps_out % fresh.extra["group"].shape[1]:
+            size = fresh.extra["group"].shape[1]
+            raise ValueError(
+                f"state.extra['pos'] must be state.steps_out mod {size} = {steps_out % size}, got {out.extra['pos']}"
+            )
+        anchor = ex.get("dt_anchor")
+        if anchor is not None:
+            ok = isinstance(anchor, tuple) and len(anchor) == 3
+            if ok:
+                try:
+                    ok = _count(anchor[0], "") <= steps_in and np.isfinite(anchor[1]) and anchor[2] > 0
+                    ok = ok and np.isfinite(anchor[2])
+                except (TypeError, ValueError):
+                    ok = False
+            if not ok:
+                raise ValueError(f"state.extra['dt_anchor'] must be None or (step, time, dt), got {anchor!r}")
+            out.extra["dt_anchor"] = (int(anchor[0]), float(anchor[1]), float(anchor[2]))
+        return out
+
+    @property
+    def attitude(self) -> np.ndarray | None:
+        """The latest emitted attitude(s), body to reference: shape (4,) or (B, 4)."""
+        if self._state is None:
+            return None if self._q0 is None else self._q0.copy()
+        q = self._state.extra["last_out"]
+        q = np.array(q, copy=True)
+        if self.rate_frame == "reference":
+            q[..., 1:] *= -1
+        return q[0] if self._state.extra["single"] else q
+
+    # ----------------------------------------------------------------------------------------------------
+    def _start(self, n_bodies: int, single: bool, dtype) -> None:
+        self._state = self._fresh_state(n_bodies, single, dtype)
+
+    def _fresh_state(self, n_bodies: int, single: bool, dtype, q0=None) -> IntegratorState:
+        """The state before the first sample (from ``q0``, or this integrator's own initial attitude)."""
+        if q0 is None:
+            q0 = np.array([1.0, 0.0, 0.0, 0.0]) if self._q0 is None else self._q0.astype(np.float64)
+        q0 = q0 / np.linalg.norm(q0, axis=-1, keepdims=True)
+        if q0.ndim == 2 and q0.shape[0] not in (1, n_bodies):
+            raise ValueError(f"q0 has {q0.shape[0]} rows but gyro has {n_bodies} bodies")
+        q = np.ascontiguousarray(np.broadcast_to(q0, (n_bodies, 4)), dtype=np.float64)
+        if self.rate_frame == "reference":
+            q = q * np.array([1.0, -1.0, -1.0, -1.0])
+        st = IntegratorState(q=q.copy(), t_end=np.nan if self.input == "increment" else 0.0)
+        st.extra["single"] = single
+        st.extra["dtype"] = np.dtype(dtype)
+        st.extra["last_out"] = q.copy()
+        st.extra["q_start"] = q.copy()
+        m = self.method
+        if m in _CONING:
+            k, _c_prev = _coning_table(m)
+            st.extra["alpha"] = np.zeros((n_bodies, 3))
+            st.extra["beta"] = np.zeros((n_bodies, 3))
+            st.extra["prev"] = np.zeros((n_bodies, 3))
+            st.extra["group"] = np.zeros((n_bodies, k.shape[0], 3))
+            st.extra["pos"] = 0
+        elif m in _BASELINES:
+            st.extra["base"] = self._baseline_state(q)
+            st.extra["last_q"] = q.copy()
+            st.extra["failed"] = np.zeros(n_bodies, dtype=bool)
+        if self._cubic:
+            st.extra["buf_s"] = np.zeros((n_bodies, 0, 3))
+            st.extra["buf_t"] = np.zeros(0)  # sample instants (relative), one per buffered sample
+            st.extra["buf_first"] = 0  # global index of the first buffered sample
+        return st
+
+    def _baseline_state(self, q: np.ndarray) -> np.ndarray:
+        from ..rotations.euler import as_euler
+        from ..rotations.matrix import as_matrix
+        from ..rotations.rotvec import as_axis_angle
+
+        state = np.zeros((q.shape[0], 9))
+        m = self.method
+        if m == "euler-angles":
+            state[:, :3] = as_euler(q, "ZYX")
+        elif m == "dcm":
+            state[:, :9] = as_matrix(q).reshape(-1, 9)
+        elif m == "euler-parameters":
+            axis, angle = as_axis_angle(q)
+            state[:, :3] = axis
+            state[:, 3] = angle
+        else:
+            w = q[:, 0]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                state[:, :3] = np.where(w[:, None] != 0, 2 * q[:, 1:] / w[:, None], np.inf)
+        return state
+
+    def _times(self, n: int, dt, t) -> tuple[np.ndarray, np.ndarray | None, float]:
+        """Step durations, step end times and the end of the chunk's last step.
+
+        Returns h of shape (n,) or (1,), the step end times relative to t0 when the rate model needs them (else
+        None), and the end of the last step (NaN for increments without times).
+        """
+        st = self._state
+        if dt is not None and t is not None:
+            raise ValueError("give either dt or t, not both")
+        if dt is None and t is None:
+            if self.input == "increment":
+                return np.ones(1), None, np.nan
+            raise ValueError("dt or t is required for rate samples (seconds per step, or step end times)")
+        prev_end = st.t_end if np.isfinite(st.t_end) else 0.0
+        if dt is not None:
+            dt_arr = _v.finite(dt, "dt", dtype=np.float64)
+            if dt_arr.ndim == 0:
+                d = float(dt_arr)
+                if not d > 0:
+                    raise ValueError(f"dt must be positive, got {d!r}")
+                k0 = st.steps_in
+                if self._dt_anchor is None or self._dt_anchor[2] != d:
+                    self._dt_anchor = (k0, prev_end, d)
+                st.extra["dt_anchor"] = self._dt_anchor
+                ka, ta, _ = self._dt_anchor
+                # t_k = t_anchor + (k - k_anchor) dt from the global step index: the same for any chunking
+                last = ta + (k0 + n - ka) * d if n else st.t_end
+                ends = ta + (np.arange(k0 + 1, k0 + n + 1) - ka) * d if self._cubic else None
+                return np.array([d]), ends, last
+            if dt_arr.shape != (n,):
+                raise ValueError(f"dt must be a scalar or have one entry per sample ({n}), got shape {dt_arr.shape}")
+            if not (dt_arr > 0).all():
+                raise ValueError(f"dt{_v.first_index(~(dt_arr > 0))} is not positive; durations must be > 0")
+            self._dt_anchor = st.extra["dt_anchor"] = None  # also in the state: a restored one must not reuse it
+            ends = np.cumsum(np.concatenate([[prev_end], dt_arr]))[1:]
+            return dt_arr, ends, float(ends[-1]) if n else st.t_end
+        t_arr = _v.finite(t, "t", dtype=np.float64)
+        if t_arr.shape != (n,):
+            raise ValueError(
+                f"t must have one end time per sample here ({n}), got shape {t_arr.shape}; integrate() takes "
+                "N + 1 times (the start and the end of every step)"
+            )
+        self._dt_anchor = st.extra["dt_anchor"] = None
+        ends = t_arr - self.t0
+        full = np.concatenate([[prev_end], ends])
+        steps = np.diff(full)
+        if not (steps > 0).all():
+            i = int(np.flatnonzero(~(steps > 0))[0])
+            raise ValueError(
+                f"t is not strictly increasing at sample {st.steps_in + i}: {float(full[i] + self.t0)!r} -> "
+                f"{float(full[i + 1] + self.t0)!r}"
+            )
+        return steps, ends, float(ends[-1]) if n else st.t_end
+
+    # ----------------------------------------------------------------------------------------------------
+    def update(self, gyro, dt=None, t=None) -> np.ndarray:
+        """Propagate through a chunk of samples and return the attitudes completed by it.
+
+        Parameters
+        ----------
+        gyro : array_like, shape (n, 3) or (B, n, 3)
+            Samples of this chunk (see ``input``), for one body or B bodies.
+        dt : float or array_like of shape (n,), optional
+            Step duration(s) in seconds.
+        t : array_like, shape (n,), optional
+            Absolute end time of each sample's step (the start of the first is the previous end, or ``t0``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (m, 4) or (B, m, 4)
+            The attitudes at the ends of the steps completed so far, in order.  m = n except for methods
+            that read ω(t) from the cubic through neighbouring rate samples, which lag by up to three samples
+            (:meth:`finish` returns the rest).
+        """
+        return self._public(self._process(self._prepare(gyro), dt, t))
+
+    def finish(self) -> np.ndarray:
+        """Complete the steps still waiting for later samples (cubic rate model only) and close the integrator.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m, 4) or (B, m, 4)
+            The remaining attitudes (none for methods without a lag).
+        """
+        if self._state is None:
+            raise ValueError("nothing to finish: no samples were given")
+        raw = self._finish_raw()
+        self._finished = True
+        return self._public(raw)
+
+    def _prepare(self, gyro) -> np.ndarray:
+        """Validated samples as a C-contiguous (B, n, 3) array in the internal frame; starts the state."""
+        if self._finished:
+            raise ValueError("this integrator has been finished; create a new one (or set its state)")
+        arr = _v.as_float_array(gyro, "gyro")
+        if arr.ndim not in (2, 3) or arr.shape[-1] != 3:
+            raise ValueError(f"gyro must have shape (n, 3) or (B, n, 3), got shape {arr.shape}")
+        single = arr.ndim == 2
+        if self.method not in _STEP_KINDS:
+            _v.check_finite(arr, "gyro")  # the step methods check their last attitude instead (_process)
+        g = arr[None] if single else arr
+        if self._state is None:
+            self._start(g.shape[0], single, arr.dtype)
+        st = self._state
+        if g.shape[0] != st.q.shape[0] or single != st.extra["single"]:
+            raise ValueError(f"gyro has {g.shape[0]} bodies; this integrator was started with {st.q.shape[0]}")
+        g = np.ascontiguousarray(g)
+        return -g if self.rate_frame == "reference" else g
+
+    def _process(self, g: np.ndarray, dt, t, out: np.ndarray | None = None) -> np.ndarray:
+        """Advance over prepared samples; returns the new attitudes (B, m, 4), internal frame, float64.
+
+        With `out` (a (B, ≥ n, 4) float64 buffer) the step-quaternion methods write into it directly.
+        """
+        st = self._state
+        n = g.shape[1]
+        h, ends, last = self._times(n, dt, t)
+        if self.input == "increment":
+            h = np.ones(1)  # an increment is the step's rotation vector whatever the step lasted
+        if self.method in _STEP_KINDS:
+            saved = st.copy()
+            raw = self._run_step_kind(g, h, None if out is None else out[:, :n])
+            # A NaN or infinite sample poisons every later attitude of the product chain (and of the scan's
+            # block offsets), so a finite last attitude proves the input finite without a pass over it; a huge
+            # step that the normalisation turned into a zero quaternion (first-order at 1e200 rad/s) shows as a
+            # last attitude off the unit sphere.
+            if n and not self._plausible(raw[:, -1]):
+                self._state = saved
+                _v.check_finite(g[0] if st.extra["single"] else g, "gyro")
+                self._check_steps(g, h)
+                raise ValueError(
+                    "gyro: the step rotations overflow (|gyro| dt is too large to represent); check the units "
+                    "and the time step"
+                )
+        else:
+            self._check_steps(g, h)
+            raw = self._run_model(g, h, ends, final=False)
+        st.steps_in += n
+        st.t_end = last
+        self._count(raw)
+        return raw
+
+    def _plausible(self, q_last: np.ndarray) -> bool:
+        """Finite, and unit to 1e-6 where the method keeps unit norm (normalised every step, or norm-preserving)."""
+        if not np.isfinite(q_last).all():
+            return False
+        unit = self.method in ("exact", "cayley") or (self.normalize != "none" and self.normalize_every == 1)
+        return not unit or bool((np.abs(np.einsum("...i,...i->...", q_last, q_last) - 1) <= 1e-6).all())
+
+    def _check_steps(self, g: np.ndarray, h: np.ndarray) -> None:
+        """Raise unless every step rotation |ω| h is at most MAX_STEP_ANGLE, naming the first sample beyond it.
+
+        Past it float64 no longer holds the angle of a step to 1 mrad, and the RK4, coning and baseline
+        arithmetic overflows into NaN (1e200 rad/s, or dt = 1e300).  One pass over the samples, which these
+        methods' finiteness check makes anyway.
+        """
+        with np.errstate(over="ignore", invalid="ignore"):
+            peak = np.max(np.abs(g), axis=(0, 2)) if g.size else np.zeros(0)
+            step = peak * self.scale * (h if h.shape[0] == peak.shape[0] else h[0])
+        bad = ~(step <= MAX_STEP_ANGLE)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            st = self._state
+            what = (
+                "increment"
+                if self.input == "increment"
+                else f"rate times its step ({float(h[min(k, h.shape[0] - 1)]):.3g} s)"
+            )
+            raise ValueError(
+                f"gyro sample {st.steps_in + k} turns by {float(step[k]):.3g} rad in one step ({what}), beyond "
+                f"{MAX_STEP_ANGLE:.3g} rad where float64 cannot hold a step's angle; check the units and the time step"
+            )
+
+    def _finish_raw(self) -> np.ndarray:
+        st = self._state
+        if not self._cubic:
+            return np.zeros((st.q.shape[0], 0, 4))
+        raw = self._run_model(np.zeros((st.q.shape[0], 0, 3)), np.ones(1), np.zeros(0), final=True)
+        self._count(raw)
+        return raw
+
+    def _count(self, raw: np.ndarray) -> None:
+        st = self._state
+        if raw.shape[1]:
+            st.extra["last_out"] = raw[:, -1].copy()
+        st.steps_out += raw.shape[1]
+
+    def _public(self, raw: np.ndarray) -> np.ndarray:
+        """Internal float64 attitudes -> the caller's frame, dtype and shape."""
+        st = self._state
+        if self.rate_frame == "reference":
+            raw = raw * np.array([1.0, -1.0, -1.0, -1.0])
+        if st.extra["dtype"] == np.float32:
+            raw = raw.astype(np.float32)
+        return raw[0] if st.extra["single"] else raw
+
+    def _run_model(self, g, h, ends, final) -> np.ndarray:
+        w0, wm, w1, inc, hs = self._rate_model(g, h, ends, final)
+        if self.method == "rk4":
+            return self._run_rk4(w0, wm, w1, hs)
+        if self.method in _CONING:
+            return self._run_coning(inc)
+        return self._run_baseline(w0, wm, w1, hs)
+
+    def _run_step_kind(self, g, h, out=None) -> np.ndarray:
+        from . import _integrate_numba as k
+
+        st = self._state
+        kind = _STEP_KINDS[self.method]
+        norm = _NORMALIZE[self.normalize]
+        n_bodies, n, _ = g.shape
+        if out is None:
+            out = np.empty((n_bodies, n, 4))
+        if n == 0:
+            return out
+        hstep = 1 if h.shape[0] > 1 else 0
+        # the scan reproduces the sequential semantics to rounding when the outputs are unit (norm-preserving
+        # step, or exact normalisation every step) or raw (no normalisation)
+        unit = kind in (k.KIND_EXACT, k.KIND_CAYLEY) or (norm == k.NORM_EXACT and self.normalize_every == 1)
+        scan_ok = n_bodies == 1 and (unit or norm == k.NORM_NONE)
+        use_scan = scan_ok and (self.parallel if self.parallel is not None else n >= 32768)
+        if self.parallel and not scan_ok:
+            raise ValueError(
+                "parallel=True needs one body and, for first/second-order, normalize='exact' every step or "
+                "normalize='none'"
+            )
+        if use_scan:
+            q = st.q[0].copy()
+
+            def part(threads, lo, hi):  # samples lo..hi, continuing from q; tile-aligned pieces: the same bits
+                hs = h[lo:hi] if hstep else h
+                args = (g[0, lo:hi], hs, hstep, self.scale, kind, unit and norm != k.NORM_NONE, q, out[0, lo:hi])
+                if threads > 1:
+                    k.scan(*args, threads)
+                else:
+                    k.scan_serial(*args)
+
+            _threads.run(n, self.threads, part)
+            st.q[0] = q
+            st.counter = 0
+        else:
+            st.counter = k.sequential(g, h, hstep, self.scale, kind, norm, self.normalize_every, st.counter, st.q, out)
+        return out
+
+    def _rate_model(self, g, h, ends, final):
+        """Per-step rates (start, middle, end), increments and durations of the steps that can be completed."""
+        st = self._state
+        n_bodies, n, _ = g.shape
+        if not self._cubic:
+            # averages and increments: the rate is constant over the step; increments use unit durations
+            hs = np.ones(n) if self.input == "increment" else np.broadcast_to(h, (n,)).copy()
+            omega = g * self.scale
+            inc = omega * hs[None, :, None]
+            return omega, omega, omega, inc, hs
+        from ._ratemodel_numba import cubic_steps
+
+        # buffer: samples from the first one a future step may still need, with their instants (= step starts)
+        starts = np.concatenate([[st.t_end if st.steps_in else 0.0], ends[:-1]]) if n else np.zeros(0)
+        buf_s = np.concatenate([st.extra["buf_s"], g * self.scale], axis=1)
+        buf_t = np.concatenate([st.extra["buf_t"], starts])
+        first = st.extra["buf_first"]
+        total = st.steps_in + n  # samples received, including this chunk
+        end_time = ends[-1] if n else st.t_end  # end of the last received step
+        k_next = st.steps_out
+        span = 2 if self.method == "rk4" else 1
+        if not final:
+            # a step may run once its four nodes (k-1 .. k+2, or 0 .. 3 at the start) and its end sample arrived
+            k_last = min(total - 1 - span, total - 3) if total >= 4 else k_next - 1
+            ks = np.arange(k_next, k_last + 1, span, dtype=np.int64)
+            spans = np.full(ks.shape, span, dtype=np.int64)
+            j0s = np.maximum(ks - 1, 0)
+            npts = np.full(ks.shape, 4, dtype=np.int64)
+        else:
+            p = min(4, total)
+            ks = np.arange(k_next, total, span, dtype=np.int64)
+            spans = np.minimum(span, total - ks)
+            j0s = np.clip(ks - 1, 0, total - p)
+            npts = np.full(ks.shape, p, dtype=np.int64)
+        k = int(ks[-1] + spans[-1]) if ks.size else k_next
+        m = ks.size
+        w0 = np.empty((n_bodies, m, 3))
+        wm = np.empty((n_bodies, m, 3))
+        w1 = np.empty((n_bodies, m, 3))
+        wq = np.empty((n_bodies, m, 3))
+        inc = np.empty((n_bodies, m, 3))
+        hs = np.empty(m)
+        tm = np.empty(m)
+        if m:
+            if j0s.min() < first:  # the buffer must hold every node; a miss would read the wrong samples
+                raise AssertionError(f"rate-model buffer starts at {first}, a window at {j0s.min()}")
+            t_rel = np.concatenate([buf_t, [end_time]])
+            cubic_steps(
+                np.ascontiguousarray(buf_s),
+                t_rel,
+                first,
+                ks,
+                spans,
+                j0s,
+                npts,
+                w0,
+                wm,
+                w1,
+                wq,
+                inc,
+                hs,
+                tm,
+            )
+        # keep what later steps may need: their windows start at k - 1, or at N - 4 >= total - 4 at the end
+        keep_from = max(min(k - 1, total - 4), 0)
+        drop = keep_from - first
+        st.extra["buf_s"] = buf_s[:, drop:].copy()
+        st.extra["buf_t"] = buf_t[drop:].copy()
+        st.extra["buf_first"] = keep_from
+        self._spans = spans
+        self._tm = tm
+        self._wq = wq
+        # the rate at the sample inside a double step is that sample (for spans of 1 it is not used)
+        inner = np.minimum(ks + 1 - first, buf_s.shape[1] - 1)
+        self._wi = np.ascontiguousarray(buf_s[:, inner])
+        return w0, wm, w1, inc, hs
+
+    def _run_rk4(self, w0, wm, w1, hs) -> np.ndarray:
+        from ._integrate_numba import rk4
+
+        st = self._state
+        m = w0.shape[1]
+        spans = self._spans if self._cubic else np.ones(m, dtype=np.int64)
+        tm = self._tm if self._cubic else np.zeros(m)
+        wq = self._wq if self._cubic else w0
+        wi = self._wi if self._cubic else w0
+        out = np.empty((w0.shape[0], int(spans.sum()), 4))
+        st.counter = rk4(
+            w0,
+            wm,
+            w1,
+            wq,
+            wi,
+            hs,
+            spans,
+            tm,
+            _NORMALIZE[self.normalize],
+            self.normalize_every,
+            st.counter,
+            st.q,
+            out,
+        )
+        return out
+
+    def _run_coning(self, inc) -> np.ndarray:
+        from ._integrate_numba import coning
+
+        st = self._state
+        coef, c_prev = _coning_table(self.method)
+        out = np.empty((*inc.shape[:2], 4))
+        ex = st.extra
+        ex["pos"], st.counter = coning(
+            np.ascontiguousarray(inc),
+            coef,
+            c_prev,
+            _NORMALIZE[self.normalize],
+            self.normalize_every,
+            st.counter,
+            ex["pos"],
+            st.q,
+            ex["alpha"],
+            ex["beta"],
+            ex["prev"],
+            ex["group"],
+            out,
+        )
+        return out
+
+    def _run_baseline(self, w0, wm, w1, hs) -> np.ndarray:
+        from ._baselines_numba import SCHEME_EULER, SCHEME_RK4, baseline
+
+        st = self._state
+        ex = st.extra
+        n_bodies, m = w0.shape[:2]
+        out = np.empty((n_bodies, m, 4))
+        dist = np.empty((n_bodies, m))
+        scheme = SCHEME_EULER if self.scheme == "euler" else SCHEME_RK4
+        with np.errstate(all="ignore"):
+            baseline(
+                _BASELINES[self.method],
+                scheme,
+                self.orthonormalize,
+                w0,
+                wm,
+                w1,
+                hs,
+                ex["base"],
+                ex["last_q"],
+                out,
+                dist,
+            )
+        first_step = st.steps_out
+        flagged = ~(dist >= self.singular_tol)
+        failed = ex["failed"]
+        if flagged.any() or failed.any():
+            bodies, steps = np.nonzero(flagged)
+            self.singular_steps.extend((int(b), int(s) + first_step) for b, s in zip(bodies, steps, strict=True))
+            if flagged.any() and self.on_singular == "raise":
+                b, s = int(bodies[0]), int(steps[0])
+                raise SingularityError(
+                    f"{self.method}: step {first_step + s} (body {b}) is {max(dist[b, s], 0.0):.3g} rad from the "
+                    f"method's singular set ({_SINGULAR[self.method]}), closer than singular_tol="
+                    f"{self.singular_tol:.3g} rad; its results would be unreliable.  Use a quaternion method, or "
+                    "on_singular='nan' / 'warn'"
+                )
+            if self.on_singular == "nan":
+                for b in range(n_bodies):
+                    hit = np.flatnonzero(flagged[b])
+                    if failed[b]:
+                        out[b] = np.nan
+                    elif hit.size:
+                        out[b, hit[0] :] = np.nan
+                        failed[b] = True
+            elif flagged.any():
+                warnings.warn(
+                    f"{self.method}: {int(flagged.sum())} step(s) within {self.singular_tol:.3g} rad of the singular "
+                    f"set ({_SINGULAR[self.method]}), first at step {first_step + int(steps[0])}; results there are "
+                    "unreliable",
+                    RuntimeWarning,
+                    stacklevel=4,
+                )
+        return out
+
+
+def _count(value, name: str) -> int:
+    """A non-negative integer counter of a restored state, or ValueError naming it."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer) or value < 0:
+        raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
+    return int(value)
+
+
+_SINGULAR = {
+    "euler-angles": "pitch ±90°, Gajda 1.6",
+    "euler-parameters": "rotation angle 0 mod 360°, Gajda 1.3",
+    "rotation-vector": "rotation angle 180°, Gajda 1.4",
+    "dcm": "none",
+}
+
+
+def integrate(
+    gyro,
+    dt=None,
+    *,
+    t=None,
+    q0=None,
+    method: str | None = None,
+    input: str = "rate",
+    rate_frame: str = "body",
+    degrees: bool = False,
+    **options,
+) -> np.ndarray:
+    """Attitudes from gyro samples: the batch form of :class:`AttitudeIntegrator` (update, then finish).
+
+    Parameters
+    ----------
+    gyro : array_like, shape (N, 3) or (B, N, 3)
+        Rate samples (rad/s, or deg/s with ``degrees=True``) or increments (``input="increment"``), for one
+        body or B bodies at once.
+    dt : float or array_like of shape (N,), optional
+        Step duration(s) in seconds.
+    t : array_like, shape (N + 1,), optional
+        Times of the N + 1 attitudes: step k runs from ``t[k]`` to ``t[k+1]``.  Any spacing, strictly
+        increasing.  Neither dt nor t is needed for increments.
+    q0 : array_like, shape (4,) or (B, 4), optional
+        Initial attitude (body to reference), identity by default.
+    method : str, optional
+        One of :data:`METHODS`; default ``"exact"`` for rates and ``"coning2"`` for increments.
+    input : {"rate", "average", "increment"}
+        What a sample is (module notes: timing convention).
+    rate_frame : {"body", "reference"}
+        Frame of the rates.
+    degrees : bool
+        Samples in degrees.
+    **options
+        ``normalize``, ``normalize_every``, ``parallel``, ``threads``, ``scheme``, ``orthonormalize``,
+        ``on_singular``, ``singular_tol``: see :class:`AttitudeIntegrator`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N + 1, 4) or (B, N + 1, 4)
+        ``q[0] = q0``, ``q[k + 1]`` the attitude at the end of step k.  float32 for float32 input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown import as_euler, integrate
+    >>> gyro = np.tile([90.0, 0.0, 0.0], (400, 1))            # roll at 90 deg/s
+    >>> q = integrate(gyro, dt=0.01, degrees=True)
+    >>> q.shape
+    (401, 4)
+    >>> as_euler(q[[50, 100, 300]], degrees=True).round(9)    # after 0.5 s, 1 s and 3 s
+    array([[  0.,   0.,  45.],
+           [  0.,   0.,  90.],
+           [  0.,   0., -90.]])
+    """
+    arr = _v.as_float_array(gyro, "gyro")
+    if arr.ndim not in (2, 3) or arr.shape[-1] != 3:
+        raise ValueError(f"gyro must have shape (N, 3) or (B, N, 3), got shape {arr.shape}")
+    n = arr.shape[-2]
+    t0 = 0.0
+    ends = None
+    if t is not None:
+        t_arr = _v.finite(t, "t", dtype=np.float64)
+        if t_arr.shape != (n + 1,):
+            raise ValueError(
+                f"t must have N + 1 = {n + 1} entries (the start and end of each of the N steps), got shape "
+                f"{t_arr.shape}; for one timestamp per sample, prepend the start of the first step or append the "
+                "end of the last"
+            )
+        t0 = float(t_arr[0])
+        ends = t_arr[1:]
+    integ = AttitudeIntegrator(method, q0=q0, input=input, rate_frame=rate_frame, degrees=degrees, t0=t0, **options)
+    g = integ._prepare(arr)
+    st = integ._state
+    # one result array: q0, then the kernels write the attitudes straight after it
+    result = np.empty((g.shape[0], n + 1, 4))
+    result[:, 0] = st.q
+    body = integ._process(g, dt, ends, out=result[:, 1:])
+    m = body.shape[1]
+    if m and not np.shares_memory(body, result):
+        result[:, 1 : m + 1] = body
+    result[:, m + 1 :] = integ._finish_raw()
+    integ._finished = True
+    return integ._public(result)

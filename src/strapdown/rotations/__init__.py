@@ -1,0 +1,40 @@
+"""One attitude at one instant: the algebra, every representation, frames and operations (floor 1).
+
+Inside the floor the modules import downwards in this order:
+
+* :mod:`.quaternion`: the Hamilton algebra (product, conjugate, exp/log, powers, rotation of vectors, slerp);
+* the representations, each a ``from_*`` / ``as_*`` pair: :mod:`.matrix`, :mod:`.euler` (all 12 sequences),
+  :mod:`.davenport`, :mod:`.mrp`, :mod:`.rotvec` (rotation vector, axis-angle, Gibbs), :mod:`.cayley_klein`,
+  :mod:`.compressed` (Liu et al.), :mod:`.tilt` (Rowe's yaw-free tilt quaternion) and :mod:`.interop` (scipy);
+* operations on attitudes: :mod:`.frames` (named reference frames and body axes), :mod:`.average` (means and
+  distances), :mod:`.decompose` (swing-twist, shortest arc), :mod:`.wahba` (attitude from vector observations);
+* :mod:`.attitude`: the frame-tagged :class:`~strapdown.Attitude` object over all of them.
+
+The top-level package re-exports the conversions; this floor imports only :mod:`strapdown._support`.
+"""
+
+from .._support.lazy import exports
+
+# submodules and names imported when first used
+__getattr__, __dir__, _names = exports(__name__, {})
+__all__ = sorted(
+    [
+        *_names,
+        *[
+            "attitude",
+            "average",
+            "cayley_klein",
+            "compressed",
+            "davenport",
+            "decompose",
+            "euler",
+            "frames",
+            "interop",
+            "matrix",
+            "mrp",
+            "quaternion",
+            "rotvec",
+            "wahba",
+        ],
+    ]
+)

@@ -1,0 +1,629 @@
+"""An immutable batch of attitudes that knows its frames: :class:`Attitude`.
+
+strapdown's functions work on plain (..., 4) arrays; :class:`Attitude` is a thin layer over them for users who
+think in objects (and for scipy users: the ``from_*`` / ``as_*`` names, indexing, ``len``, iteration,
+``concatenate``, ``inv``, ``apply``, ``*``, ``mean``, ``magnitude``, ``approx_equal``, ``random`` and pickling of
+``scipy.spatial.transform.Rotation``).  What scipy's object does not carry, this one does: the names of the two
+frames an attitude connects.
+
+Frames and composition
+----------------------
+An attitude maps vectors from its **body** axes to its **reference** frame, ``v_ref = a.apply(v_body)``
+(strapdown's convention; ``reference="NED", body="FRD"`` is the aviation one).  Frame names are any strings;
+names made of three axis letters (``"NED"``, ``"ENU"``, ``"NWU"``; ``"FRD"``, ``"FLU"``, ``"RFU"``: see
+:mod:`strapdown.rotations.frames`) can also be converted into each other with :meth:`Attitude.to_frame`.  ``None`` (the
+default) means "not named" and is never checked.
+
+``a * b`` is "apply b, then a" (the Hamilton product ``a.q ⊗ b.q``, as scipy's ``a * b``): b takes vectors from
+b's body axes into b's reference frame, and a must take vectors *from that frame*.  So a's body axes must be
+b's reference frame, and the product maps b's body to a's reference::
+
+    (ref_a ← body_a) * (ref_b ← body_b)  requires  body_a == ref_b,  and gives  (ref_a ← body_b)
+
+Typical chains: a vehicle attitude times a sensor mounting, ``(NED ← FRD) * (FRD ← "imu") = (NED ← "imu")``.
+The rotation from one body to another, both in the same reference frame, is ``a.inv() * b`` =
+``(FRD ← NED) * (NED ← FRD)``: the result maps b's body axes into a's body axes (both named ``"FRD"``; the names
+say which axes, not which vehicle).  Composing attitudes whose frames do not meet raises a ``ValueError`` that
+names both and says how to re-express one, e.g. ``b.to_frame("NED", "FRD")`` for a b given in ENU/FLU.
+
+``inv()`` swaps the names.  ``mean``, ``approx_equal`` and ``concatenate`` need the same frames throughout.
+
+Storage: ``a.q`` is the (..., 4) array itself, scalar first, read-only and never copied; the constructors that
+take user data (:meth:`from_quat`, the constructor) copy and normalise it, as scipy does.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._support import validate as _v
+
+__all__ = ["Attitude"]
+
+
+def _name(value, what: str):
+    if value is None:
+        return None
+    if not isinstance(value, str) or not value:
+        raise ValueError(f"{what} must be a frame name such as 'NED' or 'FRD', or None; got {value!r}")
+    return value
+
+
+def _generator(rng) -> np.random.Generator:
+    return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+
+
+class Attitude:
+    """Attitudes (body to reference) of any leading shape, with the names of both frames.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Non-zero quaternions, scalar first ``[w, x, y, z]`` (strapdown's layout; for scipy's scalar-last layout
+        use ``Attitude.from_quat(q, scalar_first=False)``).  They are copied and normalised.
+    reference, body : str, optional
+        Names of the reference frame and of the body axes (module notes).
+    check : bool
+        Reject NaN, infinities and zero quaternions (default).
+
+    Examples
+    --------
+    >>> from strapdown import Attitude
+    >>> a = Attitude.from_euler([90.0, 0.0, 0.0], "ZYX", degrees=True, reference="NED", body="FRD")
+    >>> a
+    Attitude([0.707107, 0, 0, 0.707107], reference='NED', body='FRD')
+    >>> a.apply([1.0, 0.0, 0.0]).round(12)        # the nose points east
+    array([0., 1., 0.])
+    >>> a.to_frame("ENU", "FLU").as_euler("ZYX", degrees=True).round(9) + 0.0   # east is ENU's zero heading
+    array([0., 0., 0.])
+    """
+
+    __slots__ = ("_body", "_q", "_reference")
+
+    def __init__(self, q, reference: str | None = None, body: str | None = None, *, check: bool = True):
+        from .quaternion import normalize
+
+        arr = normalize(_v.quaternions(q, "q", check=check), check=False)
+        self._set(arr, _name(reference, "reference"), _name(body, "body"))
+
+    def _set(self, q: np.ndarray, reference, body) -> None:
+        view = q.view()
+        view.flags.writeable = False
+        object.__setattr__(self, "_q", view)
+        object.__setattr__(self, "_reference", reference)
+        object.__setattr__(self, "_body", body)
+
+    @classmethod
+    def _wrap(cls, q: np.ndarray, reference, body) -> Attitude:
+        """An Attitude around a fresh unit-quaternion array, without checks or copies."""
+        out = cls.__new__(cls)
+        out._set(q, reference, body)
+        return out
+
+    def _like(self, q: np.ndarray) -> Attitude:
+        return Attitude._wrap(q, self._reference, self._body)
+
+    def __setattr__(self, name, value):
+        raise AttributeError("Attitude is immutable; make a new one (e.g. with to_frame or Attitude(q, ...))")
+
+    def __reduce__(self):
+        return (Attitude._wrap, (np.array(self._q), self._reference, self._body))
+
+    # ------------------------------------------------------------------------------------------------ data
+    @property
+    def q(self) -> np.ndarray:
+        """The unit quaternions (..., 4), scalar first: the stored array itself (read-only, no copy)."""
+        return self._q
+
+    @property
+    def reference(self) -> str | None:
+        """Name of the reference frame (where :meth:`apply` puts vectors), or None."""
+        return self._reference
+
+    @property
+    def body(self) -> str | None:
+        """Name of the body axes (where :meth:`apply` takes vectors from), or None."""
+        return self._body
+
+    @property
+    def shape(self) -> tuple:
+        """Leading shape: ``()`` for a single attitude."""
+        return self._q.shape[:-1]
+
+    @property
+    def single(self) -> bool:
+        """True for one attitude (shape ``()``), as scipy's ``Rotation.single``."""
+        return self._q.ndim == 1
+
+    @property
+    def dtype(self) -> np.dtype:
+        """float32 or float64."""
+        return self._q.dtype
+
+    def __len__(self) -> int:
+        if self.single:
+            raise TypeError("a single Attitude has no len(); it has shape ()")
+        return self._q.shape[0]
+
+    def __iter__(self):
+        if self.single:
+            raise TypeError("a single Attitude is not iterable")
+        return (self._like(row) for row in self._q)
+
+    def __getitem__(self, index) -> Attitude:
+        if self.single:
+            raise TypeError("a single Attitude is not subscriptable")
+        # index the leading axes only: a zero-stride placeholder of the leading shape raises numpy's IndexError
+        # for too many indices instead of letting one fall on the quaternion components
+        np.broadcast_to(np.empty((), dtype=bool), self.shape)[index]
+        key = index if isinstance(index, tuple) else (index,)
+        return self._like(self._q[(*key, slice(None))])
+
+    def __repr__(self) -> str:
+        frames = f"reference={self._reference!r}, body={self._body!r}"
+        if self.single:
+            parts = ", ".join(f"{float(c):.6g}" for c in self._q)
+            return f"Attitude([{parts}], {frames})"
+        return f"Attitude(shape={self.shape}, {frames}, dtype={self.dtype})"
+
+    # Conversion to an array gives the quaternions (no copy), so every strapdown function takes an Attitude where
+    # it takes q; arithmetic through numpy is refused, so ``2.0 * a`` cannot quietly scale quaternion components.
+    __array_ufunc__ = None
+
+    def __array__(self, dtype=None, copy=None):
+        if copy:
+            return np.array(self._q, dtype=dtype)
+        return self._q if dtype is None else self._q.astype(dtype, copy=False)
+
+    def __eq__(self, other):
+        raise TypeError("use a.approx_equal(b, atol) to compare attitudes: q and -q are the same rotation")
+
+    __hash__ = None
+
+    # ------------------------------------------------------------------------------------------------ constructors
+    @classmethod
+    def from_quat(cls, q, *, scalar_first: bool = True, reference=None, body=None, check: bool = True) -> Attitude:
+        """From quaternions, scalar first by default (``scalar_first=False``: scipy's ``[x, y, z, w]``).
+
+        Parameters
+        ----------
+        q : array_like, shape (..., 4)
+            Non-zero quaternions, body to ``reference``; they are normalised.
+        scalar_first : bool
+            ``[w, x, y, z]`` (default) or scipy's ``[x, y, z, w]``.
+        reference, body : str, optional
+            Frame names (axis letters such as ``"NED"`` and ``"FRD"``, or any name).
+        check : bool
+            Reject NaN, infinities and zero quaternions (default).
+
+        Returns
+        -------
+        Attitude
+            Shape ``q.shape[:-1]``, float32 for float32 input.
+        """
+        arr = _v.quaternions(q, "q", check=check)
+        if not scalar_first:
+            arr = np.roll(arr, 1, axis=-1)
+        return cls(arr, reference, body, check=False)
+
+    @classmethod
+    def from_matrix(cls, matrix, *, reference=None, body=None, check: bool = True) -> Attitude:
+        """From body-to-reference rotation matrices (..., 3, 3); see :func:`strapdown.from_matrix`."""
+        from .matrix import from_matrix
+
+        return cls._wrap(from_matrix(matrix, check=check), _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_euler(cls, angles, seq="ZYX", degrees: bool = False, *, reference=None, body=None, check: bool = True):
+        """From Euler angles (:func:`strapdown.from_euler`); scipy's argument order ``(seq, angles)`` works too."""
+        from .euler import from_euler
+
+        if isinstance(angles, str):  # scipy's Rotation.from_euler(seq, angles)
+            angles, seq = seq, angles
+        q = from_euler(angles, seq, degrees, check=check)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_rotvec(cls, rotvec, degrees: bool = False, *, reference=None, body=None, check: bool = True):
+        """From rotation vectors (:func:`strapdown.from_rotvec`)."""
+        from .rotvec import from_rotvec
+
+        return cls._wrap(from_rotvec(rotvec, degrees, check=check), _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_mrp(cls, mrp, *, reference=None, body=None, check: bool = True) -> Attitude:
+        """From modified Rodrigues parameters (:func:`strapdown.from_mrp`)."""
+        from .mrp import from_mrp
+
+        return cls._wrap(from_mrp(mrp, check=check), _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_davenport(cls, axes, order, angles, degrees: bool = False, *, reference=None, body=None, check=True):
+        """From Davenport angles (:func:`strapdown.from_davenport`, scipy's argument order)."""
+        from .davenport import from_davenport
+
+        q = from_davenport(axes, order, angles, degrees, check=check)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_gibbs(cls, gibbs, convention: str = "gajda", *, reference=None, body=None, check: bool = True):
+        """From Gibbs vectors (:func:`strapdown.from_gibbs`; ``convention="rodrigues"`` for n tan(χ/2))."""
+        from .rotvec import from_gibbs
+
+        q = from_gibbs(gibbs, convention, check=check)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_axis_angle(cls, axis, angle, degrees: bool = False, *, reference=None, body=None, check=True):
+        """From axes and angles (:func:`strapdown.from_axis_angle`)."""
+        from .rotvec import from_axis_angle
+
+        q = from_axis_angle(axis, angle, degrees, check=check)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def from_scipy(cls, rot, *, reference=None, body=None) -> Attitude:
+        """From a ``scipy.spatial.transform.Rotation``."""
+        from .interop import from_scipy
+
+        return cls(from_scipy(rot), reference, body, check=False)
+
+    @classmethod
+    def identity(cls, shape=(), *, reference=None, body=None, dtype=np.float64) -> Attitude:
+        """Identity attitudes of the given leading shape.
+
+        Parameters
+        ----------
+        shape : int or tuple of int
+            Leading shape; ``()`` (default) gives one attitude.
+        reference, body : str, optional
+            Frame names.
+        dtype : numpy dtype
+            float64 (default) or float32.
+
+        Returns
+        -------
+        Attitude
+            ``[1, 0, 0, 0]`` everywhere.
+        """
+        from .quaternion import identity
+
+        return cls._wrap(identity(shape, dtype), _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def random(cls, num: int | None = None, rng=None, *, shape=None, reference=None, body=None) -> Attitude:
+        """Uniformly distributed attitudes (Haar measure): normalised 4-D Gaussians (Shoemake 1992).
+
+        Parameters
+        ----------
+        num : int, optional
+            How many; None (default) gives one attitude of shape ``()``.
+        rng : numpy.random.Generator or seed, optional
+            The random generator (a seed is passed to ``numpy.random.default_rng``).
+        shape : tuple of int, optional
+            Leading shape instead of ``num``.
+        reference, body : str, optional
+            Frame names.
+
+        Returns
+        -------
+        Attitude
+            Shape ``()``, ``(num,)`` or ``shape``; float64.
+        """
+        if num is not None and shape is not None:
+            raise ValueError("give num or shape, not both")
+        lead = () if num is None and shape is None else ((int(num),) if shape is None else tuple(shape))
+        g = _generator(rng).standard_normal((*lead, 4))
+        g /= np.linalg.norm(g, axis=-1, keepdims=True)
+        return cls._wrap(g, _name(reference, "reference"), _name(body, "body"))
+
+    @classmethod
+    def align_vectors(cls, a, b, weights=None, *, reference=None, body=None):
+        """The attitude turning body vectors ``b`` onto reference vectors ``a`` and its rssd (scipy's names).
+
+        See :func:`strapdown.rotations.wahba.align_vectors` (one pair: the minimal rotation; an infinite weight: that pair
+        exactly, the others about it; otherwise Wahba's problem on the raw vectors).
+        """
+        from .wahba import align_vectors
+
+        q, rssd = align_vectors(a, b, weights)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body")), rssd
+
+    @classmethod
+    def concatenate(cls, attitudes) -> Attitude:
+        """One stack from several Attitudes (single ones count as one row) with the same frames.
+
+        Parameters
+        ----------
+        attitudes : Attitude or sequence of Attitude
+            Attitudes of shape ``()`` or ``(n_i, ...)``, all with the same reference and body names.
+
+        Returns
+        -------
+        Attitude
+            Shape ``(sum n_i, ...)``.
+
+        Raises
+        ------
+        ValueError
+            When the frames differ (the message names the first one that does and how to re-express it).
+        """
+        items = [attitudes] if isinstance(attitudes, Attitude) else list(attitudes)
+        if not items or not all(isinstance(a, Attitude) for a in items):
+            raise ValueError("concatenate needs a non-empty sequence of Attitude objects")
+        first = items[0]
+        for i, a in enumerate(items[1:], 1):
+            if (a.reference, a.body) != (first.reference, first.body):
+                raise ValueError(
+                    f"attitudes[{i}] maps {a.body!r} to {a.reference!r} but attitudes[0] maps {first.body!r} to "
+                    f"{first.reference!r}; re-express it with .to_frame({first.reference!r}, {first.body!r})"
+                )
+        q = np.concatenate([np.atleast_2d(a.q) for a in items], axis=0)
+        return cls._wrap(q, first.reference, first.body)
+
+    # ------------------------------------------------------------------------------------------------ conversions
+    def as_quat(self, canonical: bool = False, *, scalar_first: bool = True) -> np.ndarray:
+        """A copy of the quaternions; ``canonical=True`` picks w ≥ 0 (:func:`strapdown.rotations.quaternion.canonical`)."""
+        from .quaternion import canonical as canon
+
+        out = canon(self._q, check=False) if canonical else self._q.copy()
+        return out if scalar_first else np.roll(out, -1, axis=-1)
+
+    def as_matrix(self) -> np.ndarray:
+        """Body-to-reference rotation matrices (..., 3, 3)."""
+        from .matrix import as_matrix
+
+        return as_matrix(self._q, check=False)
+
+    def as_euler(self, seq: str = "ZYX", degrees: bool = False, yaw_range: str = "signed") -> np.ndarray:
+        """Euler angles (:func:`strapdown.as_euler`, exact at gimbal lock)."""
+        from .euler import as_euler
+
+        return as_euler(self._q, seq, degrees, yaw_range, check=False)
+
+    def as_rotvec(self, degrees: bool = False) -> np.ndarray:
+        """Rotation vectors, angle in [0, π] (:func:`strapdown.as_rotvec`)."""
+        from .rotvec import as_rotvec
+
+        return as_rotvec(self._q, degrees, check=False)
+
+    def as_mrp(self) -> np.ndarray:
+        """Modified Rodrigues parameters, the short set |p| ≤ 1 (:func:`strapdown.as_mrp`)."""
+        from .mrp import as_mrp
+
+        return as_mrp(self._q, check=False)
+
+    def as_davenport(self, axes, order: str, degrees: bool = False) -> np.ndarray:
+        """Davenport angles about three axes (:func:`strapdown.as_davenport`)."""
+        from .davenport import as_davenport
+
+        return as_davenport(self._q, axes, order, degrees, check=False)
+
+    def as_gibbs(self, convention: str = "gajda") -> np.ndarray:
+        """Gibbs vectors (:func:`strapdown.as_gibbs`); infinite, and refused, at 180°."""
+        from .rotvec import as_gibbs
+
+        return as_gibbs(self._q, convention)
+
+    def as_axis_angle(self, degrees: bool = False):
+        """Unit axes and angles in [0, π] (:func:`strapdown.as_axis_angle`)."""
+        from .rotvec import as_axis_angle
+
+        return as_axis_angle(self._q, degrees, check=False)
+
+    def to_scipy(self):
+        """A ``scipy.spatial.transform.Rotation`` of the same rotations (frames are not kept)."""
+        from .interop import to_scipy
+
+        return to_scipy(self._q, check=False)
+
+    # ------------------------------------------------------------------------------------------------ algebra
+    def inv(self) -> Attitude:
+        """The inverse attitudes, reference to body: the frame names swap.
+
+        Returns
+        -------
+        Attitude
+            The conjugate quaternions, ``reference`` and ``body`` exchanged.
+        """
+        from .quaternion import conjugate
+
+        return Attitude._wrap(conjugate(self._q, check=False), self._body, self._reference)
+
+    def apply(self, vectors, inverse: bool = False) -> np.ndarray:
+        """Body vectors into the reference frame (or back with ``inverse=True``): ``v_ref = q ⊗ v_body ⊗ q*``.
+
+        Parameters
+        ----------
+        vectors : array_like, shape (..., 3)
+            Vectors in ``body`` axes (``reference`` axes with ``inverse=True``), any units; leading axes
+            broadcast against the attitudes' shape.
+        inverse : bool
+            Apply the inverse rotation, reference to body.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            The vectors in the other frame, same units.
+        """
+        from .quaternion import conjugate, rotate
+
+        q = conjugate(self._q, check=False) if inverse else self._q
+        # the attitudes were checked when the object was made: only the vectors need it
+        return rotate(q, _v.vectors(vectors, "vectors"), check=False)
+
+    def __mul__(self, other):
+        if not isinstance(other, Attitude):
+            return NotImplemented
+        from .quaternion import multiply
+
+        if self._body is not None and other._reference is not None and self._body != other._reference:
+            raise ValueError(self._mismatch(other))
+        return Attitude._wrap(multiply(self._q, other._q, check=False), self._reference, other._body)
+
+    def _mismatch(self, other: Attitude) -> str:
+        text = (
+            f"cannot compose: a * b applies b first, which maps {other._body!r} to {other._reference!r}, but a "
+            f"takes vectors from {self._body!r} (a maps {self._body!r} to {self._reference!r}); a's body axes must "
+            "be b's reference frame."
+        )
+        from .frames import _axes
+
+        try:
+            kinds = (_axes(self._body, "body")[0], _axes(other._reference, "reference")[0])
+        except ValueError:
+            kinds = None
+        if kinds and kinds[0] == kinds[1]:
+            return text + (
+                f" Re-express one of them: b.to_frame(reference={self._body!r}) or "
+                f"a.to_frame(body={other._reference!r})."
+            )
+        if all(_known(name) for name in (self._reference, self._body, other._reference, other._body)):
+            return text + (
+                f" If both are attitudes of bodies, put b in a's frames first, "
+                f"b.to_frame({self._reference!r}, {self._body!r}); the rotation from b's body to a's is a.inv() * b."
+            )
+        return text + " Check which frames each attitude maps (a.reference, a.body), or compose with a.inv()."
+
+    def __pow__(self, t) -> Attitude:
+        """Rotations by ``t`` times the angle (in [0, π], the shorter way) about the same axes, as scipy's.
+
+        ``from_rotvec(t · as_rotvec(q))``, so q and -q give the same result; ``a ** -1`` is ``a.inv()``.
+
+        Only a rotation between axes of the same name (``reference == body``, e.g. the relative rotation
+        ``a.inv() * b``) or with unnamed frames has powers: half of a body-to-NED attitude maps between no named
+        frames (for attitudes in between, use ``quaternion.slerp`` or :class:`strapdown.propagate.interpolate.RotationSpline`).
+        """
+        from .rotvec import as_rotvec, from_rotvec
+
+        if isinstance(t, (int, np.integer)) and t == -1:
+            return self.inv()
+        if self._reference is not None and self._body is not None and self._reference != self._body:
+            raise ValueError(
+                f"a ** t needs a rotation between axes of the same name; this one maps {self._body!r} to "
+                f"{self._reference!r} (use a.inv() for the inverse, slerp or RotationSpline for attitudes in between)"
+            )
+        t = _v.finite(t, "t")
+        return self._like(from_rotvec(as_rotvec(self._q, check=False) * t[..., None].astype(self.dtype), check=False))
+
+    def magnitude(self) -> np.ndarray:
+        """Rotation angles of the attitudes, ``2 atan2(|v|, |w|)``.
+
+        Returns
+        -------
+        numpy.ndarray, shape ``self.shape``
+            Radians, in [0, π].
+        """
+        from .quaternion import _norm3
+
+        return 2 * np.arctan2(_norm3(self._q[..., 1:]), np.abs(self._q[..., 0]))
+
+    def approx_equal(self, other: Attitude, atol: float | None = None, degrees: bool = False) -> np.ndarray:
+        """Whether the rotation angle between ``self`` and ``other`` is at most ``atol``.
+
+        Parameters
+        ----------
+        other : Attitude
+            Attitudes with the same frames (a ValueError otherwise); shapes broadcast.
+        atol : float, optional
+            Largest angle, radians (degrees with ``degrees=True``); default 1e-8 rad.
+        degrees : bool
+            ``atol`` in degrees.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            One per attitude (q and -q count as equal).
+        """
+        from .quaternion import angle_between
+
+        if not isinstance(other, Attitude):
+            raise ValueError(f"other must be an Attitude, got {type(other).__name__}")
+        self._same_frames(other, "approx_equal")
+        tol = 1e-8 if atol is None else (np.deg2rad(atol) if degrees else atol)
+        return angle_between(self._q, other._q, check=False) <= tol
+
+    def _same_frames(self, other: Attitude, what: str) -> None:
+        for mine, theirs, name in ((self._reference, other._reference, "reference"), (self._body, other._body, "body")):
+            if mine is not None and theirs is not None and mine != theirs:
+                raise ValueError(
+                    f"{what}: the {name} frames differ ({mine!r} and {theirs!r}); re-express one with .to_frame"
+                )
+
+    def mean(self, weights=None, axis=None) -> Attitude:
+        """Weighted chordal L2 mean (Markley et al. 2007; :func:`strapdown.rotations.average.mean`), frames kept.
+
+        Parameters
+        ----------
+        weights : array_like, optional
+            Non-negative weights, broadcast against the attitudes; equal by default.
+        axis : int or tuple of int, optional
+            Axes of ``self.shape`` to average over (``-1`` is the last of them); all by default.
+
+        Returns
+        -------
+        Attitude
+            The mean attitude(s).
+        """
+        from .average import mean
+
+        if axis is not None:
+            # numbered in the Attitude's shape; average.mean numbers them in q's, whose last axis holds w, x, y, z
+            axes = (axis,) if isinstance(axis, (int, np.integer)) else tuple(axis)
+            nd = len(self.shape)
+            for ax in axes:
+                if not -nd <= ax < nd:
+                    raise ValueError(f"axis {ax} is out of range for an Attitude of shape {self.shape}")
+            axis = tuple(int(ax) % nd for ax in axes)
+        return self._like(mean(self._q, weights=weights, axis=axis))
+
+    def to_frame(self, reference: str | None = None, body: str | None = None) -> Attitude:
+        """The same physical attitudes expressed in other axes (:func:`strapdown.change_frame`).
+
+        Parameters
+        ----------
+        reference, body : str, optional
+            New reference frame and/or body axes, named by axis letters (``"ENU"``, ``"FLU"``, ...); None
+            keeps that side.  The current names must be letter names too.
+
+        Returns
+        -------
+        Attitude
+            The same rotations of the physical body, with the new names (``self`` when nothing changes).
+
+        Examples
+        --------
+        >>> from strapdown import Attitude
+        >>> a = Attitude.identity(reference="NED", body="FRD")
+        >>> b = a.to_frame("ENU", "FLU")          # nose north: 90° about ENU's up
+        >>> b.reference, b.body, b.as_quat(canonical=True).round(6)
+        ('ENU', 'FLU', array([0.707107, 0.      , 0.      , 0.707107]))
+        """
+        from .frames import change_frame
+
+        options = {}
+        for new, old, side in ((reference, self._reference, "ref"), (body, self._body, "body")):
+            if new is None or new == old:
+                continue
+            if old is None:
+                what = "reference frame" if side == "ref" else "body axes"
+                raise ValueError(f"this attitude's {what} has no name, so it cannot be re-expressed in {new!r}")
+            options[f"{side}_from"] = old
+            options[f"{side}_to"] = new
+        if not options:
+            return self
+        q = change_frame(self._q, check=False, **options)
+        return Attitude._wrap(
+            q, self._reference if reference is None else reference, self._body if body is None else body
+        )
+
+
+def _known(name) -> bool:
+    """Whether a frame name is made of axis letters that :mod:`strapdown.rotations.frames` can convert."""
+    from .frames import _axes
+
+    try:
+        _axes(name, "frame")
+    except ValueError:
+        return False
+    return True

@@ -49,13 +49,13 @@ def vqf_runs():
     from vqf import VQF, offlineVQF
 
     def v6(t):
-        return VQF(t.dt).updateBatch(t.gyr, t.acc)["quat6D"]
+        return VQF(t.dt).updateBatch(t.gyro, t.acc)["quat6D"]
 
     def v9(t):
-        return VQF(t.dt).updateBatch(t.gyr, t.acc, t.mag)["quat9D"]
+        return VQF(t.dt).updateBatch(t.gyro, t.acc, t.mag)["quat9D"]
 
     def off(t):
-        return offlineVQF(t.gyr, t.acc, t.mag, t.dt)["quat9D"]
+        return offlineVQF(t.gyro, t.acc, t.mag, t.dt)["quat9D"]
 
     return v6, v9, off
 
@@ -65,7 +65,7 @@ def accuracy(trials) -> dict:
         "ours 6D": evaluate("attitude", trials),
         "ours 9D": evaluate("attitude", trials, mag=True),
         "ours offline 9D": evaluate(
-            lambda t: attitude_offline(t.gyr, t.acc, t.mag, dt=t.dt), trials, heading_offset=False
+            lambda t: attitude_offline(t.gyro, t.acc, t.mag, dt=t.dt), trials, heading_offset=False
         ),
     }
     try:
@@ -211,7 +211,7 @@ def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
         for v in values:
             if mode == "offline":
                 ev = evaluate(
-                    lambda t, v=v, name=name: attitude_offline(t.gyr, t.acc, t.mag, dt=t.dt, params={name: v}),
+                    lambda t, v=v, name=name: attitude_offline(t.gyro, t.acc, t.mag, dt=t.dt, params={name: v}),
                     trials,
                     heading_offset=False,
                 )
@@ -333,9 +333,9 @@ def irregular_inputs(trial, seed: int, fraction: float = 0.1):
     every = np.ones(n, bool)
     times = np.arange(n) * trial.dt
     return [
-        ("regular", trial.gyr, trial.acc, trial.mag, {"dt": trial.dt}, every),
-        (f"{fraction:.0%} rows dropped", trial.gyr[keep], trial.acc[keep], trial.mag[keep], {"t": times[keep]}, keep),
-        (f"{fraction:.0%} acc/mag NaN", trial.gyr, acc, mag, {"dt": trial.dt}, every),
+        ("regular", trial.gyro, trial.acc, trial.mag, {"dt": trial.dt}, every),
+        (f"{fraction:.0%} rows dropped", trial.gyro[keep], trial.acc[keep], trial.mag[keep], {"t": times[keep]}, keep),
+        (f"{fraction:.0%} acc/mag NaN", trial.gyro, acc, mag, {"dt": trial.dt}, every),
     ]
 
 

@@ -50,7 +50,7 @@ def mag_monte_carlo(runs: int, n: int = 1500, noise: float = 0.3) -> dict:
         soft = np.eye(3) + np.diag(rng.uniform(-0.2, 0.2, 3)) + rng.uniform(-0.1, 0.1, (3, 3)) * (1 - np.eye(3))
         model = TriadModel(bias=bias, soft_iron=soft, noise_density=noise / np.sqrt(100.0))
         u = rng.standard_normal((n, 3))
-        m = corrupt(model, FIELD * u / np.linalg.norm(u, axis=1, keepdims=True), 0.01, "instant", rng)
+        m = corrupt(model, FIELD * u / np.linalg.norm(u, axis=1, keepdims=True), 0.01, "rate", rng)
         cal = magnetometer(m, field_strength=FIELD)
         truth = symmetric_truth(model.matrix)
         iu = np.triu_indices(3)
@@ -161,7 +161,7 @@ def broad(folder: Path, fit_seconds: float) -> list[dict]:
         for name, m in variants.items():
             key = id(m)
             if key not in done:
-                q = attitude(trial.gyr, trial.acc, m, dt=trial.dt).q
+                q = attitude(trial.gyro, trial.acc, m, dt=trial.dt).q
                 done[key] = round(rmse_errors(q, trial.quat, trial.movement)["total"], 3)
             row[name] = done[key]
         soft, hard = DISTORTION
@@ -169,7 +169,7 @@ def broad(folder: Path, fit_seconds: float) -> list[dict]:
         cal_d, _, _ = first_rotations(distorted, moving, fit_seconds)
         for name, m in (("distorted", distorted), ("recovered", None if cal_d is None else cal_d.apply(distorted))):
             if m is not None:
-                q = attitude(trial.gyr, trial.acc, m, dt=trial.dt).q
+                q = attitude(trial.gyro, trial.acc, m, dt=trial.dt).q
                 row[name] = round(rmse_errors(q, trial.quat, trial.movement)["total"], 3)
         rows.append(row)
         note = "fit refused" if cal is None else f"{row['fit_seconds']:.0f} s, coverage {row['coverage']:.2f}, "

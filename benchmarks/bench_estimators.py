@@ -84,8 +84,8 @@ def vqf_runner(nine: bool):
     def run(trial):
         v = VQF(trial.dt)
         if nine:
-            return v.updateBatch(trial.gyr, trial.acc, trial.mag)["quat9D"]
-        return v.updateBatch(trial.gyr, trial.acc)["quat6D"]
+            return v.updateBatch(trial.gyro, trial.acc, trial.mag)["quat9D"]
+        return v.updateBatch(trial.gyro, trial.acc)["quat6D"]
 
     run.__name__ = f"vqf {'9D' if nine else '6D'} (defaults)"
     return run
@@ -93,7 +93,7 @@ def vqf_runner(nine: bool):
 
 def broad_throughput(trials, repeat: int) -> dict:
     """The same ratios on real data: all trials end to end (BROAD's IMU at 286 Hz)."""
-    gyr = np.ascontiguousarray(np.concatenate([t.gyr for t in trials]))
+    gyr = np.ascontiguousarray(np.concatenate([t.gyro for t in trials]))
     acc = np.ascontiguousarray(np.concatenate([t.acc for t in trials]))
     dt = trials[0].dt
     try:

@@ -22,7 +22,7 @@ true_bias = np.radians([0.5, -0.5, 0.5])
 consumer = ImuModel.consumer_mems()
 imu = ImuModel(
     gyro=TriadModel(bias=true_bias, noise_density=consumer.gyro.noise_density),
-    accel=TriadModel(noise_density=consumer.accel.noise_density),
+    acc=TriadModel(noise_density=consumer.acc.noise_density),
     mag=TriadModel(noise_density=consumer.mag.noise_density),
 )
 platform = RockingPlatform(duration=200.0, speed=0.0, bump_amplitude=0.0)

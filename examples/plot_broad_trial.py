@@ -42,7 +42,7 @@ def simulated_trial():
     from strapdown.simulate import ImuModel, MagneticDisturbance, MagneticField, TriadModel, sample
 
     consumer = ImuModel.consumer_mems()
-    imu = ImuModel(gyro=consumer.gyro, accel=consumer.accel, mag=TriadModel(noise_density=consumer.mag.noise_density))
+    imu = ImuModel(gyro=consumer.gyro, acc=consumer.acc, mag=TriadModel(noise_density=consumer.mag.noise_density))
     rate = 100.0
     data = sample(
         turns_and_rests(),
@@ -63,7 +63,7 @@ if TRIAL.exists():
 
     trial = load_trial(TRIAL)
     name, gyr, acc, mag, truth, movement, rate = (
-        trial.name, trial.gyr, trial.acc, trial.mag, trial.quat, trial.movement, trial.rate,
+        trial.name, trial.gyro, trial.acc, trial.mag, trial.quat, trial.movement, trial.rate,
     )  # fmt: skip
 else:
     name, gyr, acc, mag, truth, movement, rate = simulated_trial()

@@ -61,7 +61,7 @@ def test_conversions_match_scipy(rng):
         Attitude.from_axis_angle(*a.as_axis_angle()),
     ):
         assert rotation_angle(back.q, a.q).max() < 1e-13
-    assert rotation_angle(a.to_scipy().as_quat(scalar_first=True), a.q).max() < 1e-15
+    assert rotation_angle(a.as_scipy().as_quat(scalar_first=True), a.q).max() < 1e-15
 
 
 def test_shape_len_indexing_iteration(stack):

@@ -59,7 +59,7 @@ def test_loader_reads_the_synthetic_folder(folder):
     trials = load_trials(folder)
     assert [t.name for t in trials] == list(SYNTHETIC)
     t = trials[0]
-    assert t.gyr.shape == (2000, 3) and t.quat.shape == (2000, 4) and t.movement.dtype == bool
+    assert t.gyro.shape == (2000, 3) and t.quat.shape == (2000, 4) and t.movement.dtype == bool
     assert t.rate == 100.0 and t.dt == 0.01 and t.groups == ("all_trials", "rotation")
     assert np.isnan(t.quat[300:320]).all() and not t.movement[:100].any() and t.movement[100:].all()
     assert [x.name for x in load_trials(folder, ["03_shaken"])] == ["03_shaken"]
@@ -69,7 +69,7 @@ def test_evaluate_means_and_groups(folder):
     ev = evaluate("complementary", folder, mag=True)
     assert len(ev.trials) == 3 and not ev.heading_offset_removed
     for r, trial in zip(ev.trials, load_trials(folder), strict=True):  # the same as running it by hand
-        q = complementary(trial.gyr, trial.acc, trial.mag, dt=0.01).q
+        q = complementary(trial.gyro, trial.acc, trial.mag, dt=0.01).q
         assert r.get("total") == rmse_errors(q, trial.quat, trial.movement)["total"]
         assert np.isfinite([r.total, r.heading, r.inclination]).all()
     incl = {r.name: r.inclination for r in ev.trials}

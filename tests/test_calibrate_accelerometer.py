@@ -97,7 +97,7 @@ def test_rest_finder_on_broad_breaks():
 
     for path in sorted(DATA.glob("*with_breaks*.mat")):
         trial = load_trial(path)
-        rests = find_rests(trial.acc, trial.gyr, fs=trial.rate)
+        rests = find_rests(trial.acc, trial.gyro, fs=trial.rate)
         assert len(rests) >= 3, path.name
         for a, b in rests:
             assert np.mean(trial.movement[a:b]) < 0.02, (path.name, a / trial.rate, b / trial.rate)
@@ -107,7 +107,7 @@ def test_rest_finder_on_broad_breaks():
             if b - a >= 5 * trial.rate:
                 assert np.any((rests[:, 0] < b) & (rests[:, 1] > a)), (path.name, a / trial.rate)
         with pytest.raises(InsufficientMotionError, match="missing"):
-            accelerometer(trial.acc, gyr=trial.gyr, fs=trial.rate)
+            accelerometer(trial.acc, gyro=trial.gyro, fs=trial.rate)
 
 
 def test_many_poses_near_one_face_are_refused_naming_the_axis():

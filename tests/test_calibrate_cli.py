@@ -63,7 +63,7 @@ def test_calibrate_mag_then_estimate_true_north(recording, tmp_path):
     assert "written:" in out
     doc = json.loads(cal.read_text())
     entry = doc["calibrations"][0]
-    assert entry["sensor"] == "magnetometer" and entry["units"] == "uT"
+    assert entry["sensor"] == "mag" and entry["units"] == "uT"
     np.testing.assert_allclose(entry["offset"], [40.0, -25.0, 30.0], atol=0.2)
 
     raw = tmp_path / "raw.parquet"
@@ -72,7 +72,7 @@ def test_calibrate_mag_then_estimate_true_north(recording, tmp_path):
     run(["estimate", path, "-o", fixed, "--calibration", cal, "--declination", str(DECLINATION), "-q"])
     meta = read_metadata(fixed)
     assert meta["heading"] == "true" and float(meta["declination_deg"]) == pytest.approx(DECLINATION)
-    assert meta["calibration"] == "magnetometer"
+    assert meta["calibration"] == "mag"
     # (CSV has no place for metadata: the outputs are Parquet)
     # uncorrected hard/soft iron bends the heading; calibrated and turned to true north it follows the truth
     assert heading_error(fixed, data) < 2.5 < 20 < heading_error(raw, data)  # tens of degrees uncorrected
@@ -107,16 +107,16 @@ def test_calibrate_acc_gyro_and_allan_from_a_file(tmp_path):
     rng = np.random.default_rng(2)
     fs, bias_g, bias_a = 100.0, np.array([0.01, -0.02, 0.005]), np.array([0.2, -0.1, 0.15])
     faces = 9.80665 * np.vstack([np.eye(3), -np.eye(3)])
-    acc, gyr = [], []
+    acc, gyro = [], []
     for k, f in enumerate(faces):
         if k:
             acc.append(f + 3.0 * rng.standard_normal((150, 3)))
-            gyr.append(bias_g + 2.0 * rng.standard_normal((150, 3)))
+            gyro.append(bias_g + 2.0 * rng.standard_normal((150, 3)))
         acc.append(f * [1.01, 0.99, 1.0] + bias_a + 0.02 * rng.standard_normal((400, 3)))
-        gyr.append(bias_g + 0.003 * rng.standard_normal((400, 3)))
-    acc, gyr = np.concatenate(acc), np.concatenate(gyr)
+        gyro.append(bias_g + 0.003 * rng.standard_normal((400, 3)))
+    acc, gyro = np.concatenate(acc), np.concatenate(gyro)
     cols = {"t": np.arange(len(acc)) / fs}
-    for name, x in (("g", gyr), ("a", acc)):
+    for name, x in (("g", gyro), ("a", acc)):
         for i, axis in enumerate("xyz"):
             cols[name + axis] = x[:, i]
     path = write_table(tmp_path / "faces.csv", cols)
@@ -124,10 +124,10 @@ def test_calibrate_acc_gyro_and_allan_from_a_file(tmp_path):
     run(["calibrate", "acc", path, "-o", cal])
     run(["calibrate", "gyro", path, "-o", cal])
     doc = {c["sensor"]: c for c in json.loads(cal.read_text())["calibrations"]}
-    assert sorted(doc) == ["accelerometer", "gyroscope"]
-    np.testing.assert_allclose(doc["accelerometer"]["offset"], bias_a, atol=0.01)
-    np.testing.assert_allclose(doc["accelerometer"]["quality"]["scale_factor"], [0.01, -0.01, 0.0], atol=1e-3)
-    np.testing.assert_allclose(doc["gyroscope"]["offset"], bias_g, atol=5e-4)
+    assert sorted(doc) == ["acc", "gyro"]
+    np.testing.assert_allclose(doc["acc"]["offset"], bias_a, atol=0.01)
+    np.testing.assert_allclose(doc["acc"]["quality"]["scale_factor"], [0.01, -0.01, 0.0], atol=1e-3)
+    np.testing.assert_allclose(doc["gyro"]["offset"], bias_g, atol=5e-4)
     out = run(["calibrate", "allan", path])
     assert "ARW N" in out and "bias_noise_rest=" in out
 

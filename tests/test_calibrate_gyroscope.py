@@ -27,15 +27,15 @@ def test_bias_from_rests():
     fs = 100.0
     truth = np.zeros((3000, 3))
     truth[1000:2000] = 2.0 * np.sin(np.linspace(0, 20, 1000))[:, None]  # 10 s of turning between two rests
-    gyr = corrupt(model, truth, 1 / fs, "average", rng)
-    cal = gyroscope(gyr, fs=fs)
+    gyro = corrupt(model, truth, 1 / fs, "average", rng)
+    cal = gyroscope(gyro, fs=fs)
     assert len(cal.quality["rests"]) == 2
     assert np.all(np.abs(cal.offset - model.bias) < 4 * cal.offset_sigma)
     # white noise: the reported sigma is the noise density over √(rest seconds)
     rest_seconds = cal.quality["samples"] / fs
     np.testing.assert_allclose(cal.offset_sigma, model.noise_density / np.sqrt(rest_seconds), rtol=0.15)
     with pytest.raises(InsufficientMotionError, match="no rest found"):
-        gyroscope(gyr[1000:2000], fs=fs)
+        gyroscope(gyro[1000:2000], fs=fs)
 
 
 def test_scale_and_coupling_against_a_reference_attitude():
@@ -57,9 +57,9 @@ def test_reference_turning_about_one_axis_is_refused():
     rng = np.random.default_rng(1)
     w = np.zeros((2000, 3))
     w[:, 2] = np.radians(90) * np.sin(np.linspace(0, 30, 2000))  # a turntable about z only
-    gyr = corrupt(gyro_model(), w, 0.01, "average", rng)
+    gyro = corrupt(gyro_model(), w, 0.01, "average", rng)
     with pytest.raises(InsufficientMotionError, match=r"hardly turns about sensor axis .*\(≈ [xy]\)"):
-        gyroscope(gyr, reference_rate=w)
+        gyroscope(gyro, reference_rate=w)
 
 
 def flicker(n, fs, b, rng, axes=3):
@@ -117,8 +117,8 @@ def test_allan_of_the_simulator_gyro_matches_its_model():
     imu = ImuModel(gyro=TriadModel(noise_density=2e-4, bias_random_walk=2e-5))
     rng = np.random.default_rng(3)
     fs = 20.0
-    gyr = corrupt(imu.gyro, np.zeros((int(4000 * fs), 3)), 1 / fs, "average", rng)
-    r = allan(gyr, fs)
+    gyro = corrupt(imu.gyro, np.zeros((int(4000 * fs), 3)), 1 / fs, "average", rng)
+    r = allan(gyro, fs)
     assert np.all((r.arw_interval[:, 0] <= 2e-4) & (2e-4 <= r.arw_interval[:, 1]))
     assert np.all((r.rate_random_walk_interval[:, 0] <= 2e-5) & (2e-5 <= r.rate_random_walk_interval[:, 1]))
     assert np.all(r.bias_instability_interval[:, 0] == 0)  # no flicker simulated: B's interval reaches 0
@@ -133,10 +133,10 @@ def test_allan_rejects_short_input():
 def test_allan_bias_calibration():
     rng = np.random.default_rng(4)
     fs, n_true, bias = 20.0, 2e-4, np.array([0.01, -0.02, 0.003])
-    gyr = bias + n_true * np.sqrt(fs) * rng.standard_normal((int(2000 * fs), 3))
-    r = allan(gyr, fs)
+    gyro = bias + n_true * np.sqrt(fs) * rng.standard_normal((int(2000 * fs), 3))
+    r = allan(gyro, fs)
     cal = r.calibration()
     # white noise only: the mean of T seconds scatters by N/√T
     np.testing.assert_allclose(cal.offset_sigma, n_true / np.sqrt(2000.0), rtol=0.1)
     assert np.all(np.abs(cal.offset - bias) < 4 * cal.offset_sigma)
-    np.testing.assert_allclose(r.apply(gyr).mean(axis=0), 0.0, atol=1e-12)
+    np.testing.assert_allclose(r.apply(gyro).mean(axis=0), 0.0, atol=1e-12)

@@ -33,7 +33,7 @@ def worst_model(rng):
 
 def readings(model, n, rng):
     h = FIELD * random_directions(n, rng)
-    return corrupt(model, h, 0.01, "instant", rng)
+    return corrupt(model, h, 0.01, "rate", rng)
 
 
 def test_monte_carlo_parameters_within_reported_uncertainty():
@@ -91,7 +91,7 @@ def test_one_axis_turning_is_refused_naming_the_axis():
     a = np.linspace(0, 8 * np.pi, 2000)
     dip = np.radians(66)
     h = FIELD * np.column_stack([np.cos(dip) * np.cos(a), -np.cos(dip) * np.sin(a), np.full_like(a, np.sin(dip))])
-    m = corrupt(TriadModel(bias=[10, 20, -5], noise_density=0.03), h, 0.01, "instant", rng)
+    m = corrupt(TriadModel(bias=[10, 20, -5], noise_density=0.03), h, 0.01, "rate", rng)
     with pytest.raises(InsufficientMotionError, match=r"one\s+axis only.*\(≈ z\).*other two axes"):
         magnetometer(m)
 
@@ -111,7 +111,7 @@ def test_still_sensor_and_narrow_cone_are_refused():
 
 
 def test_bad_input_is_named():
-    with pytest.raises(ValueError, match=r"m must have shape \(N, 3\)"):
+    with pytest.raises(ValueError, match=r"mag must have shape \(N, 3\)"):
         magnetometer(np.zeros((100, 2)))
     with pytest.raises(ValueError, match="at least 30"):
         magnetometer(np.ones((10, 3)))
@@ -128,7 +128,7 @@ def test_nan_rows_skipped_json_round_trip_and_float32(tmp_path):
     cal = magnetometer(with_gaps, field_strength=FIELD, frame="FLU")
     assert cal.quality["samples"] == len(m) - len(m[::7])
     save(tmp_path / "cal.json", cal)
-    back = load(tmp_path / "cal.json")["magnetometer"]
+    back = load(tmp_path / "cal.json")["mag"]
     assert back.frame == "FLU" and back.units == "uT"
     np.testing.assert_array_equal(back.offset, cal.offset)
     np.testing.assert_array_equal(back.matrix_sigma, cal.matrix_sigma)
@@ -143,17 +143,23 @@ def test_nan_rows_skipped_json_round_trip_and_float32(tmp_path):
     doc = json.loads((tmp_path / "cal.json").read_text())
     doc["calibrations"] *= 2  # one sensor twice: which one applies would be an accident of order
     (tmp_path / "twice.json").write_text(json.dumps(doc))
-    with pytest.raises(ValueError, match=r"twice.json holds two magnetometer calibrations \(entries 0 and 1\)"):
+    with pytest.raises(ValueError, match=r"twice.json holds two mag calibrations \(entries 0 and 1\)"):
         load(tmp_path / "twice.json")
     # the same rule where calibrations are written or handed to a pipeline, and only Calibration objects pass
     from strapdown.calibrate import by_sensor
 
     for give in (lambda *c: save(tmp_path / "two.json", *c), lambda *c: by_sensor(list(c))):
-        with pytest.raises(ValueError, match="two magnetometer calibrations given"):
+        with pytest.raises(ValueError, match="two mag calibrations given"):
             give(cal, cal)
         with pytest.raises(ValueError, match="Calibration objects, got dict"):
             give(cal, {"sensor": "gyroscope"})
     assert not (tmp_path / "two.json").exists()
+    # a file of release 0.1 named the sensor in full: it still loads, under the library's one name
+    old = json.loads((tmp_path / "cal.json").read_text())
+    old["calibrations"][0]["sensor"] = "magnetometer"
+    (tmp_path / "old.json").write_text(json.dumps(old))
+    assert list(load(tmp_path / "old.json")) == ["mag"]
+    assert Calibration.load(tmp_path / "old.json", sensor="magnetometer").sensor == "mag"
 
 
 def test_a_small_patch_of_directions_is_refused():
@@ -163,7 +169,7 @@ def test_a_small_patch_of_directions_is_refused():
     base = np.array([0.4, 0.0, 0.9165])
     h = FIELD * (base + np.column_stack([tilt[:, 0], tilt[:, 1], -0.4 * tilt[:, 0]]))
     h = FIELD * h / np.linalg.norm(h, axis=1, keepdims=True)
-    m = corrupt(TriadModel(bias=[5, -3, 8], noise_density=0.03), h, 0.01, "instant", rng)
+    m = corrupt(TriadModel(bias=[5, -3, 8], noise_density=0.03), h, 0.01, "rate", rng)
     with pytest.raises(InsufficientMotionError, match="small patch"):
         magnetometer(m)
     with pytest.raises(InsufficientMotionError, match="small patch"):
@@ -204,11 +210,11 @@ def test_gyro_finds_the_rotation_the_field_alone_cannot():
         return np.degrees(np.sqrt(np.mean(np.arccos(np.clip(cos, -1, 1)) ** 2)))
 
     field_only = magnetometer(data.mag, field_strength=50.0)
-    aided = magnetometer(data.mag, field_strength=50.0, gyr=data.gyro, fs=100.0, gyro_bias=gyro.bias)
+    aided = magnetometer(data.mag, field_strength=50.0, gyro=data.gyro, fs=100.0, gyro_bias=gyro.bias)
     expected = np.degrees(np.arccos((np.trace(turn) - 1) / 2))
     assert angle_rms(field_only) == pytest.approx(expected, abs=1.5)
     assert aided.quality["gyro_alignment_deg"] == pytest.approx(expected, abs=0.3)
     assert angle_rms(aided) < 0.6  # the noise: 0.3 µT per sample of 50 µT is 0.34° per sample
     np.testing.assert_allclose(aided.matrix @ imu.mag.matrix, np.eye(3), atol=6e-3)
-    with pytest.raises(ValueError, match="gyr has shape"):
-        magnetometer(data.mag, gyr=data.gyro[:10], fs=100.0)
+    with pytest.raises(ValueError, match="gyro has shape"):
+        magnetometer(data.mag, gyro=data.gyro[:10], fs=100.0)

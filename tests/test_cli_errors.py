@@ -230,7 +230,7 @@ def test_evaluate_refuses_a_truth_that_scores_nan(tmp_path):
     fields["imu_gyr"][98, 0] = 1e300
     scipy.io.savemat(folder / "t1.mat", fields)
     err = refused("evaluate", folder, code=2)
-    assert "t1.mat: sample 99 of 300: gyr[98] = [1e+300, 0.0, 0.0] is beyond" in err
+    assert "t1.mat: sample 99 of 300: gyro[98] = [1e+300, 0.0, 0.0] is beyond" in err
     # trials built in code bypass the loader: the evaluation itself refuses a NaN score
     trial = load_trials(broad_trial(tmp_path / "good"))[0]
     trial.quat[:] = 0.0

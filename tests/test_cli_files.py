@@ -113,16 +113,16 @@ def test_estimate_takes_the_rate_and_columns_of_a_broad_like_mat_file(tmp_path):
 
     rng = np.random.default_rng(3)
     n = 1500
-    gyr = rng.normal(0, 0.2, (n, 3))
+    gyro = rng.normal(0, 0.2, (n, 3))
     acc = rng.normal(0, 0.2, (n, 3)) + np.array([0.0, 0.0, 9.81])
     mag = rng.normal(0, 0.5, (n, 3)) + np.array([15.0, 5.0, -40.0])
     path = tmp_path / "01_trial.mat"
-    scipy.io.savemat(path, {"imu_gyr": gyr, "imu_acc": acc, "imu_mag": mag, "sampling_rate": 285.714})
+    scipy.io.savemat(path, {"imu_gyr": gyro, "imu_acc": acc, "imu_mag": mag, "sampling_rate": 285.714})
     res = ok("estimate", path, "-e", "mahony", "--9d")
     assert "mahony 9D" in res.stderr
     result = read_table(tmp_path / "01_trial.estimate.csv")
     cls, pcls, _ = ESTIMATORS["mahony"]
-    ref = cls(pcls()).update(gyr, acc, mag, dt=1 / 285.714)
+    ref = cls(pcls()).update(gyro, acc, mag, dt=1 / 285.714)
     np.testing.assert_array_equal(stack(result, QUAT), ref.q)
 
 

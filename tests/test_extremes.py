@@ -158,17 +158,17 @@ def _still(n=60, dtype=np.float64):
 @pytest.mark.parametrize(
     ("what", "match"),
     [
-        ("gyr", r"gyr\[10\] = \[1e\+300, .* is beyond 1e\+100"),
+        ("gyro", r"gyro\[10\] = \[1e\+300, .* is beyond 1e\+100"),
         ("acc", r"acc\[10\] = \[1e\+300, .* is beyond 1e\+100"),
         ("dt", r"sample 0 lasts 1e\+300 s, beyond 1e\+09 s"),
-        ("step", r"gyr\[10\] turns by 1e\+13 rad in one sample"),
+        ("step", r"gyro\[10\] turns by 1e\+13 rad in one sample"),
     ],
 )
 def test_filters_refuse_samples_no_sensor_gives(cls, what, match):
     # every filter returned NaN from a 1e300 gyro sample; Tilt and Attitude also from acc, Attitude from dt
     g, a = _still()
     dt = 0.01
-    if what == "gyr":
+    if what == "gyro":
         g[10] = 1e300
     elif what == "acc":
         a[10] = 1e300
@@ -182,10 +182,10 @@ def test_filters_refuse_samples_no_sensor_gives(cls, what, match):
 
 @pytest.mark.parametrize("cls", _filters(), ids=lambda c: c.__name__)
 def test_filters_at_the_edge_of_the_range_stay_finite(cls):
-    for change in ("gyr", "acc", "dt"):
+    for change in ("gyro", "acc", "dt"):
         g, a = _still()
         dt = 0.01
-        if change == "gyr":
+        if change == "gyro":
             g[10], dt = 1e100, 1e-95  # a huge rate over a tiny step: 1e5 rad
         elif change == "acc":
             a[10] = 1e100

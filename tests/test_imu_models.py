@@ -25,7 +25,7 @@ def truth(rng):
 @pytest.mark.parametrize("kind", KINDS)
 def test_ideal_model_returns_truth_exactly(truth, kind, rng):
     ideal = ImuModel.ideal()
-    for model in (ideal.gyro, ideal.accel, ideal.mag, TriadModel()):
+    for model in (ideal.gyro, ideal.acc, ideal.mag, TriadModel()):
         out = corrupt(model, truth, 0.01, kind, rng)
         assert out.dtype == np.float64 and out.shape == truth.shape
         assert np.array_equal(out, truth)
@@ -49,7 +49,7 @@ def test_constant_bias_scales_with_the_step_for_increments(truth, rng):
     bias = np.array([0.1, -0.2, 0.3])
     h = rng.uniform(0.001, 0.02, truth.shape[0])
     model = TriadModel(bias=bias)
-    np.testing.assert_allclose(corrupt(model, truth, h, "instant", rng), truth + bias, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(corrupt(model, truth, h, "rate", rng), truth + bias, rtol=0, atol=1e-15)
     np.testing.assert_allclose(corrupt(model, truth, h, "average", rng), truth + bias, rtol=0, atol=1e-15)
     np.testing.assert_allclose(
         corrupt(model, truth, h, "increment", rng), truth + bias * h[:, None], rtol=0, atol=1e-15
@@ -58,7 +58,7 @@ def test_constant_bias_scales_with_the_step_for_increments(truth, rng):
 
 def test_quantisation_gives_multiples_within_half_an_lsb(truth, rng):
     res = 0.061
-    out = corrupt(TriadModel(resolution=res), truth, 0.01, "instant", rng)
+    out = corrupt(TriadModel(resolution=res), truth, 0.01, "rate", rng)
     counts = out / res
     assert np.abs(counts - np.round(counts)).max() < 1e-9
     assert np.abs(out - truth).max() <= res / 2 + 1e-12
@@ -89,7 +89,7 @@ def test_saturated_and_quantised_readings_stay_inside_the_range(rng):
     top = 2000.0
     truth = np.array([[2500.0, -2500.0, 1999.99], [1e6, -1e6, 0.0]])
     for res, counts in ((0.061, 32786), (1 / 16.4, 32800)):
-        out = corrupt(TriadModel(resolution=res, range=top), truth, 0.01, "instant", rng)
+        out = corrupt(TriadModel(resolution=res, range=top), truth, 0.01, "rate", rng)
         assert np.abs(out).max() <= top
         np.testing.assert_allclose(np.abs(out[:, :2]), counts * res, rtol=1e-15)
         assert np.abs(out / res - np.round(out / res)).max() < 1e-9
@@ -97,9 +97,9 @@ def test_saturated_and_quantised_readings_stay_inside_the_range(rng):
 
 def test_same_rng_state_same_result(truth):
     model = ImuModel.consumer_mems().gyro
-    a = corrupt(model, truth, 0.01, "instant", np.random.default_rng(7))
-    b = corrupt(model, truth, 0.01, "instant", np.random.default_rng(7))
-    c = corrupt(model, truth, 0.01, "instant", np.random.default_rng(8))
+    a = corrupt(model, truth, 0.01, "rate", np.random.default_rng(7))
+    b = corrupt(model, truth, 0.01, "rate", np.random.default_rng(7))
+    c = corrupt(model, truth, 0.01, "rate", np.random.default_rng(8))
     assert np.array_equal(a, b) and not np.array_equal(a, c)
 
 
@@ -111,12 +111,12 @@ def test_constant_bias_is_the_mean_error(rng):
     bias = np.array([0.01, -0.004, 0.002])
     model = TriadModel(bias=bias, noise_density=sigma_rate / np.sqrt(fs))
     truth = rng.uniform(-1, 1, (n, 3))
-    err = corrupt(model, truth, 1 / fs, "instant", rng) - truth
+    err = corrupt(model, truth, 1 / fs, "rate", rng) - truth
     # the sample mean has std σ/√n
     assert np.all(np.abs(err.mean(axis=0) - bias) < 5 * sigma_rate / np.sqrt(n))
 
 
-@pytest.mark.parametrize("kind", ["instant", "average"])
+@pytest.mark.parametrize("kind", ["rate", "average"])
 def test_white_noise_std_is_density_times_sqrt_fs(kind, rng):
     n, fs, density = 100_000, 200.0, 3e-3
     err = corrupt(TriadModel(noise_density=density), np.zeros((n, 3)), 1 / fs, kind, rng)
@@ -140,7 +140,7 @@ def test_white_noise_follows_each_step(rng):
 
 def test_allan_deviation_of_white_noise(rng):
     n, fs, density = 200_000, 100.0, 2e-3
-    x = corrupt(TriadModel(noise_density=density), np.zeros((n, 3)), 1 / fs, "instant", rng)
+    x = corrupt(TriadModel(noise_density=density), np.zeros((n, 3)), 1 / fs, "rate", rng)
     taus, adev = allan_deviation(x, fs, taus=np.array([1, 2, 5, 10, 20, 50, 100]) / fs)
     avar = (adev**2).mean(axis=1)  # pooled over the axes
     slope = np.polyfit(np.log(taus), 0.5 * np.log(avar), 1)[0]
@@ -167,7 +167,7 @@ def test_allan_deviation_of_rate_random_walk(rng):
 def test_bias_random_walk_variance_grows_linearly(rng):
     runs, n, h, k = 400, 1001, 0.05, 2e-3
     model = TriadModel(bias=[1.0, 2.0, 3.0], bias_random_walk=k)
-    end = np.array([corrupt(model, np.zeros((n, 3)), h, "instant", rng)[-1] for _ in range(runs)])
+    end = np.array([corrupt(model, np.zeros((n, 3)), h, "rate", rng)[-1] for _ in range(runs)])
     walk = end - model.bias
     t_end = (n - 1) * h  # the last instant sample is taken at the start of the last step
     # 1200 values: the sample variance has relative std √(2/1200) = 4 %
@@ -182,7 +182,7 @@ def test_bias_walk_over_a_step_is_the_exact_wiener_average(rng):
     model = TriadModel(bias_random_walk=k)
     zeros = np.zeros((2, 3))
     avg = np.array([corrupt(model, zeros, h, "average", rng) for _ in range(runs)])
-    inst = np.array([corrupt(model, zeros, h, "instant", rng) for _ in range(runs)])
+    inst = np.array([corrupt(model, zeros, h, "rate", rng) for _ in range(runs)])
     inc = np.array([corrupt(model, zeros, h, "increment", rng) for _ in range(runs)])
     var_avg = avg.reshape(runs, 2, 3).transpose(1, 0, 2).reshape(2, -1).var(axis=1)
     var_inc = inc.reshape(runs, 2, 3).transpose(1, 0, 2).reshape(2, -1).var(axis=1)
@@ -195,7 +195,7 @@ def test_bias_walk_over_a_step_is_the_exact_wiener_average(rng):
 def test_same_rng_state_gives_the_same_bias_path_for_every_kind():
     model = TriadModel(bias_random_walk=0.1)
     zeros = np.zeros((50, 3))
-    inst = corrupt(model, zeros, 0.1, "instant", np.random.default_rng(3))
+    inst = corrupt(model, zeros, 0.1, "rate", np.random.default_rng(3))
     avg = corrupt(model, zeros, 0.1, "average", np.random.default_rng(3))
     inc = corrupt(model, zeros, 0.1, "increment", np.random.default_rng(3))
     np.testing.assert_allclose(inc, 0.1 * avg, rtol=1e-14)
@@ -305,21 +305,21 @@ def test_presets(preset, rng):
     imu = preset()
     assert isinstance(imu, ImuModel)
     t_actual, _, _ = apply_clock(imu.clock, np.arange(1001) * 0.01, rng)
-    for part in (imu.gyro, imu.accel, imu.mag):
+    for part in (imu.gyro, imu.acc, imu.mag):
         assert np.all(np.diag(part.misalignment) == 0)
-        out = corrupt(part, np.zeros((1000, 3)), np.diff(t_actual), "instant", rng)
+        out = corrupt(part, np.zeros((1000, 3)), np.diff(t_actual), "rate", rng)
         assert out.shape == (1000, 3) and np.isfinite(out).all()
 
 
 def test_consumer_preset_figures():
     imu = ImuModel.consumer_mems()
     assert np.degrees(imu.gyro.noise_density) == pytest.approx(0.007, rel=1e-12)
-    assert imu.accel.noise_density == pytest.approx(150e-6 * G, rel=1e-12)
+    assert imu.acc.noise_density == pytest.approx(150e-6 * G, rel=1e-12)
     assert imu.mag.noise_density * np.sqrt(100) == pytest.approx(0.3, rel=1e-12)  # 0.3 µT rms at 100 Hz
-    assert imu.accel.range == pytest.approx(16 * G) and np.degrees(imu.gyro.range) == pytest.approx(2000)
+    assert imu.acc.range == pytest.approx(16 * G) and np.degrees(imu.gyro.range) == pytest.approx(2000)
     tactical = ImuModel.tactical()
     assert np.degrees(tactical.gyro.noise_density) * 60 == pytest.approx(0.1, rel=1e-12)
-    assert tactical.accel.noise_density * 60 == pytest.approx(0.03, rel=1e-12)
+    assert tactical.acc.noise_density * 60 == pytest.approx(0.03, rel=1e-12)
 
 
 def test_models_are_frozen_and_compare_by_value():
@@ -377,27 +377,32 @@ def test_datasheet_constructors_reject_by_their_argument_names():
 def test_corrupt_rejects(rng):
     model, good = TriadModel(), np.zeros((4, 3))
     with pytest.raises(ValueError, match=r"truth must have shape \(N, 3\)"):
-        corrupt(model, np.zeros((4, 2)), 0.01, "instant", rng)
+        corrupt(model, np.zeros((4, 2)), 0.01, "rate", rng)
     with pytest.raises(ValueError, match=r"truth must have shape \(N, 3\)"):
-        corrupt(model, np.zeros(3), 0.01, "instant", rng)
+        corrupt(model, np.zeros(3), 0.01, "rate", rng)
     bad = good.copy()
     bad[2, 1] = np.nan
     with pytest.raises(ValueError, match=r"truth\[2, 1\] is NaN"):
-        corrupt(model, bad, 0.01, "instant", rng)
+        corrupt(model, bad, 0.01, "rate", rng)
     with pytest.raises(ValueError, match=r"h\[2\] is 0.0; step durations must be positive"):
-        corrupt(model, good, [0.01, 0.01, 0.0, 0.01], "instant", rng)
+        corrupt(model, good, [0.01, 0.01, 0.0, 0.01], "rate", rng)
     with pytest.raises(ValueError, match=r"h is -0.01; step durations must be positive"):
-        corrupt(model, good, -0.01, "instant", rng)
+        corrupt(model, good, -0.01, "rate", rng)
     with pytest.raises(ValueError, match=r"h must be a scalar or have shape \(N,\)"):
-        corrupt(model, good, [0.01, 0.01], "instant", rng)
+        corrupt(model, good, [0.01, 0.01], "rate", rng)
     with pytest.raises(ValueError, match=r"h\[0\] is NaN"):
-        corrupt(model, good, [np.nan, 0.01, 0.01, 0.01], "instant", rng)
+        corrupt(model, good, [np.nan, 0.01, 0.01, 0.01], "rate", rng)
     with pytest.raises(ValueError, match="kind must be one of"):
-        corrupt(model, good, 0.01, "rate", rng)
+        corrupt(model, good, 0.01, "instantaneous", rng)
+    # "instant" is release 0.1's name of "rate": the same readings
+    np.testing.assert_array_equal(
+        corrupt(model, good, 0.01, "instant", np.random.default_rng(5)),
+        corrupt(model, good, 0.01, "rate", np.random.default_rng(5)),
+    )
     with pytest.raises(ValueError, match=r"rng must be a numpy\.random\.Generator"):
-        corrupt(model, good, 0.01, "instant", 42)
+        corrupt(model, good, 0.01, "rate", 42)
     with pytest.raises(ValueError, match="model must be a TriadModel"):
-        corrupt(ClockModel(), good, 0.01, "instant", rng)
+        corrupt(ClockModel(), good, 0.01, "rate", rng)
 
 
 def test_clock_rejects(rng):

@@ -62,16 +62,16 @@ def test_matlab_v5_arrays_and_rate_like_broad(tmp_path):
 
     rng = np.random.default_rng(1)
     n = 600
-    gyr, acc = rng.normal(0, 0.3, (n, 3)), rng.normal(0, 0.3, (n, 3)) + np.array([0, 0, 9.81])
+    gyro, acc = rng.normal(0, 0.3, (n, 3)), rng.normal(0, 0.3, (n, 3)) + np.array([0, 0, 9.81])
     mag = rng.normal(0, 1, (n, 3)) + np.array([20, 0, -40])
     path = tmp_path / "trial.mat"
-    scipy.io.savemat(path, {"imu_gyr": gyr, "imu_acc": acc, "imu_mag": mag, "sampling_rate": 285.714})
+    scipy.io.savemat(path, {"imu_gyr": gyro, "imu_acc": acc, "imu_mag": mag, "sampling_rate": 285.714})
     data = read_imu(path, optional=("acc", "mag"))
-    np.testing.assert_array_equal(data.gyro, gyr)
+    np.testing.assert_array_equal(data.gyro, gyro)
     np.testing.assert_allclose(data.t, np.arange(n) / 285.714, rtol=1e-15)
     # the estimate from the file equals the library on the same arrays (rate from the file)
     report = estimate_file(path, tmp_path / "est.csv", estimator="mahony")
-    ref = sd.fusion.Mahony(sd.fusion.MahonyParams()).update(gyr, acc, mag, dt=1 / 285.714)
+    ref = sd.fusion.Mahony(sd.fusion.MahonyParams()).update(gyro, acc, mag, dt=1 / 285.714)
     np.testing.assert_array_equal(quats(read_table(report.output)), ref.q)
 
 
@@ -79,13 +79,13 @@ def test_matlab_v73_is_read_through_hdf5_with_column_major_arrays(tmp_path):
     import h5py
 
     rng = np.random.default_rng(2)
-    gyr = rng.normal(size=(50, 3))
+    gyro = rng.normal(size=(50, 3))
     path = tmp_path / "v73.mat"
     with h5py.File(path, "w", userblock_size=512) as f:  # MATLAB's 512-byte header, then HDF5
-        f["imu_gyr"] = gyr.T  # MATLAB stores column-major: an (N, 3) array appears as (3, N)
+        f["imu_gyr"] = gyro.T  # MATLAB stores column-major: an (N, 3) array appears as (3, N)
         f["t"] = (np.arange(50) * 0.01)[None]
     data = read_imu(path)
-    np.testing.assert_array_equal(data.gyro, gyr)
+    np.testing.assert_array_equal(data.gyro, gyro)
     np.testing.assert_array_equal(data.t, np.arange(50) * 0.01)
 
 
@@ -261,16 +261,16 @@ def test_one_and_two_row_tables_round_trip(tmp_path, fmt, n):
 def test_matlab_v5_short_logs_keep_their_orientation(tmp_path, n):
     import scipy.io
 
-    gyr = np.arange(3.0 * n).reshape(n, 3) / 10
+    gyro = np.arange(3.0 * n).reshape(n, 3) / 10
     path = tmp_path / "short.mat"
-    acc = gyr + np.array([0.0, 0.0, 9.5])  # |acc| near g: the unit check refuses |a| far from it (issue 12)
-    scipy.io.savemat(path, {"imu_gyr": gyr, "imu_acc": acc, "sampling_rate": 50.0})  # BROAD's layout
+    acc = gyro + np.array([0.0, 0.0, 9.5])  # |acc| near g: the unit check refuses |a| far from it (issue 12)
+    scipy.io.savemat(path, {"imu_gyr": gyro, "imu_acc": acc, "sampling_rate": 50.0})  # BROAD's layout
     data = read_imu(path, optional=("acc",))
-    np.testing.assert_array_equal(data.gyro, gyr)
+    np.testing.assert_array_equal(data.gyro, gyro)
     np.testing.assert_array_equal(data.acc, acc)
     np.testing.assert_array_equal(data.t, np.arange(n) / 50.0)
     if n > 1:  # a 1 x n time row beside n x 3 readings is a column (one row would be a scalar: MATLAB cannot tell)
-        scipy.io.savemat(path, {"imu_gyr": gyr, "t": np.arange(n)[None] * 0.02})
+        scipy.io.savemat(path, {"imu_gyr": gyro, "t": np.arange(n)[None] * 0.02})
         np.testing.assert_array_equal(read_imu(path).t, np.arange(n) * 0.02)
 
 

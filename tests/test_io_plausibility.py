@@ -94,10 +94,10 @@ def test_gyro_increments_are_judged_as_rates(tmp_path):
 
 def test_an_array_field_names_its_component(tmp_path):
     # BROAD's .mat layout: (N, 3) arrays and a sampling rate; rows, not lines
-    gyr, acc = np.zeros((500, 3)), np.tile([0.0, 0.0, 9.81], (500, 1))
-    gyr[321, 2] = -1e300
+    gyro, acc = np.zeros((500, 3)), np.tile([0.0, 0.0, 9.81], (500, 1))
+    gyro[321, 2] = -1e300
     path = tmp_path / "trial.mat"
-    scipy.io.savemat(path, {"imu_gyr": gyr, "imu_acc": acc, "sampling_rate": 100.0})
+    scipy.io.savemat(path, {"imu_gyr": gyro, "imu_acc": acc, "sampling_rate": 100.0})
     with pytest.raises(ValueError, match=r"trial\.mat: row 321, column 'imu_gyr\[2\]': the gyro reads -1e\+300 rad/s"):
         read_all(path)
 

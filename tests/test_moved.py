@@ -50,3 +50,24 @@ def test_the_old_paths_are_importable_in_a_fresh_interpreter():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "ok"
+
+
+def test_the_old_keyword_gyr_still_works_and_says_its_new_name():
+    import numpy as np
+
+    from strapdown.calibrate import find_rests
+    from strapdown.fusion import Mahony, MahonyParams, mahony
+
+    rng = np.random.default_rng(0)
+    gyro, acc = 0.01 * rng.standard_normal((200, 3)), np.tile([0.0, 0.0, 9.81], (200, 1))
+    new = mahony(gyro=gyro, acc=acc, dt=0.01).q
+    with pytest.warns(DeprecationWarning, match="gyr= is now gyro="):
+        old = mahony(gyr=gyro, acc=acc, dt=0.01).q
+    np.testing.assert_array_equal(old, new)
+    with pytest.warns(DeprecationWarning):
+        streamed = Mahony(MahonyParams()).update(gyr=gyro, acc=acc, dt=0.01).q
+    np.testing.assert_array_equal(streamed, new)
+    with pytest.raises(TypeError, match="both gyr= and gyro="):
+        mahony(gyr=gyro, gyro=gyro, acc=acc, dt=0.01)
+    with pytest.warns(DeprecationWarning):
+        np.testing.assert_array_equal(find_rests(acc, gyr=gyro, fs=100.0), find_rests(acc, gyro=gyro, fs=100.0))

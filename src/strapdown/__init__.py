@@ -39,7 +39,7 @@ from .rotations.compressed import as_compressed, from_compressed
 from .rotations.davenport import as_davenport, from_davenport
 from .rotations.euler import as_euler, from_euler
 from .rotations.frames import change_frame, frame_matrix, frame_quaternion
-from .rotations.interop import from_scipy, to_scipy
+from .rotations.interop import as_scipy, from_scipy, to_scipy
 from .rotations.matrix import as_matrix, from_matrix
 from .rotations.mrp import as_mrp, from_mrp
 from .rotations.quaternion import angle_between, canonical, multiply
@@ -66,6 +66,7 @@ __all__ = [
     "as_matrix",
     "as_mrp",
     "as_rotvec",
+    "as_scipy",
     "average",
     "canonical",
     "change_frame",

@@ -209,7 +209,7 @@ def test_bad_input_is_named():
         attitude(g, np.full((5, 3), np.nan), dt=0.01)
     gb = g.copy()
     gb[1, 0] = np.nan
-    with pytest.raises(ValueError, match=r"gyr\[1, 0\] is NaN"):
+    with pytest.raises(ValueError, match=r"gyro\[1, 0\] is NaN"):
         attitude(gb, a, dt=0.01)
     with pytest.raises(ValueError, match="tau_acc must be positive"):
         AttitudeParams(tau_acc=0.0)
@@ -222,7 +222,7 @@ def test_bad_input_is_named():
     # the offline form validates as the online one does, and an empty recording is no error
     with pytest.raises(ValueError, match="give exactly one of dt"):
         attitude_offline(g, a)
-    with pytest.raises(ValueError, match="mag has 3 samples but gyr has 5"):
+    with pytest.raises(ValueError, match="mag has 3 samples but gyro has 5"):
         attitude_offline(g, a, a[:3], dt=0.01)
     with pytest.raises(ValueError, match=r"t is not strictly increasing at sample 1: 1\.0 -> 0\.99"):
         attitude_offline(g, a, t=1.0 - 0.01 * np.arange(5))
@@ -238,7 +238,7 @@ def test_broad_figures_of_issue_7():
     trials = load_trials(BROAD)
     six = evaluate("attitude", trials)
     nine = evaluate("attitude", trials, mag=True)
-    offline = evaluate(lambda t: attitude_offline(t.gyr, t.acc, t.mag, dt=t.dt), trials, heading_offset=False)
+    offline = evaluate(lambda t: attitude_offline(t.gyro, t.acc, t.mag, dt=t.dt), trials, heading_offset=False)
     assert six.mean("inclination") <= 0.70  # measured 0.643 (VQF 0.764)
     assert nine.mean("total") <= 2.2  # measured 1.956 (VQF 2.398)
     assert offline.mean("total") <= 1.9  # measured 1.813 (offline VQF 2.070)
@@ -492,15 +492,15 @@ def test_the_rate_is_interpolated_across_a_gap():
     dt = 0.01
     n = 800
     tk = np.arange(1, n + 1) * dt
-    gyr = np.zeros((n, 3))
-    gyr[:, 0] = alpha * (tk - 0.5 * dt)  # the mean rate over each step (an integrating gyro)
+    gyro = np.zeros((n, 3))
+    gyro[:, 0] = alpha * (tk - 0.5 * dt)  # the mean rate over each step (an integrating gyro)
     angle = 0.5 * alpha * tk**2
     truth = np.column_stack([np.cos(angle / 2), np.sin(angle / 2), 0 * angle, 0 * angle])
     acc = np.column_stack([0 * angle, 9.81 * np.sin(angle), 9.81 * np.cos(angle)])  # at a fixed point: only g
     keep = np.random.default_rng(2).random(n) >= 0.2
     keep[0] = True
     params = AttitudeParams(tau_acc=1000.0)  # the gyro alone: the test is of the integration
-    est = AttitudeEstimator(params, q0=truth[0]).update(gyr[keep], acc[keep], t=tk[keep])  # q0: at the 1st time
+    est = AttitudeEstimator(params, q0=truth[0]).update(gyro[keep], acc[keep], t=tk[keep])  # q0: at the 1st time
     err = deg(attitude_errors(est.q, truth[keep])["total"])
     # applying each row's rate over the whole gap errs by alpha dt²/2 per lost row: 0.001° each, 0.16° in all;
     # what is left (measured 0.0009°): in runs of lost rows the nominal interval has begun to follow the longer
@@ -528,9 +528,9 @@ def test_broad_with_dropped_rows_and_missing_samples():
             arr[gone] = np.nan
         every = np.ones(n, bool)
         variants = [
-            (trial.gyr, trial.acc, trial.mag, {"dt": trial.dt}, every),
-            (trial.gyr[keep], trial.acc[keep], trial.mag[keep], {"t": np.arange(n)[keep] * trial.dt}, keep),
-            (trial.gyr, acc, mag, {"dt": trial.dt}, every),
+            (trial.gyro, trial.acc, trial.mag, {"dt": trial.dt}, every),
+            (trial.gyro[keep], trial.acc[keep], trial.mag[keep], {"t": np.arange(n)[keep] * trial.dt}, keep),
+            (trial.gyro, acc, mag, {"dt": trial.dt}, every),
         ]
         for i, (g, a, m, timing, rows) in enumerate(variants):
             truth, moving = trial.quat[rows], trial.movement[rows]
@@ -645,7 +645,7 @@ def test_offline_smooths_the_bias_so_the_start_knows_it_too():
 def test_an_uncalibrated_accelerometer_bias_can_be_estimated():
     # 20/-15/10 mg on the accelerometer, a body turning every way: modelled, it no longer passes for a gyro bias
     acc_bias = np.array([20.0, -15.0, 10.0]) * 9.80665e-3
-    d = sim(RandomMotion(duration=120.0, seed=0), bias=0.0, imu=ImuModel(accel=TriadModel(bias=acc_bias)))
+    d = sim(RandomMotion(duration=120.0, seed=0), bias=0.0, imu=ImuModel(acc=TriadModel(bias=acc_bias)))
     settled = slice(1000, None)
     f = AttitudeEstimator({"acc_bias_sigma_init": 0.1})
     modelled = f.update(d.gyro, d.acc, dt=0.01)
@@ -689,24 +689,24 @@ def test_unit_norm_between_renormalisations():
     # the attitudes stay unit to a few 1e-16 (the property the estimator promises), also spinning at 20 rad/s.
     n = 100_000
     t = np.arange(n) * 1e-3
-    gyr = np.column_stack([20.0 * np.cos(0.3 * t), 20.0 * np.sin(0.7 * t), np.full(n, 5.0)])
+    gyro = np.column_stack([20.0 * np.cos(0.3 * t), 20.0 * np.sin(0.7 * t), np.full(n, 5.0)])
     acc = np.tile([0.5, -0.3, 9.8], (n, 1))
-    est = attitude(gyr, acc, dt=1e-3)
+    est = attitude(gyro, acc, dt=1e-3)
     assert np.abs(np.linalg.norm(est.q, axis=1) - 1.0).max() < 2e-15
     # a state from before the renormalisation count existed restores, and continues as from a count of 0
     f = AttitudeEstimator()
-    f.update(gyr[:5003], acc[:5003], dt=1e-3)
+    f.update(gyro[:5003], acc[:5003], dt=1e-3)
     old = f.state
     assert old["gyro_steps_unnormalised"][0] == 5003 % 8  # the steps since the last renormalisation
     del old["gyro_steps_unnormalised"]
     g = AttitudeEstimator()
     g.state = old
-    q = g.update(gyr[5003:], acc[5003:], dt=1e-3).q
+    q = g.update(gyro[5003:], acc[5003:], dt=1e-3).q
     assert np.abs(np.linalg.norm(q, axis=1) - 1.0).max() < 2e-15
     np.testing.assert_allclose(q, est.q[5003:], atol=1e-12)
     old["gyro_steps_unnormalised"] = np.array([-1e18])  # out of range: renormalised at once, not in 1e18 steps
     g.state = old
-    q = g.update(gyr[5003:], acc[5003:], dt=1e-3).q
+    q = g.update(gyro[5003:], acc[5003:], dt=1e-3).q
     assert np.abs(np.linalg.norm(q, axis=1) - 1.0).max() < 2e-15
 
 

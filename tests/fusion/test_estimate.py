@@ -50,10 +50,10 @@ def test_attitude_bias_changes_at_block_updates_only():
     # 25 Hz and the default 5 Hz block rate: a block of 5 samples, after the first (the start, no interval); a
     # 2 °/s bias on z is being learnt
     n = 400
-    gyr = np.zeros((n, 3))
-    gyr[:, 2] = np.deg2rad(2.0)
+    gyro = np.zeros((n, 3))
+    gyro[:, 2] = np.deg2rad(2.0)
     acc = np.tile([0.0, 0.0, 9.81], (n, 1))
-    est = attitude(gyr, acc, dt=0.04)
+    est = attitude(gyro, acc, dt=0.04)
     change = np.flatnonzero(np.any(np.diff(est.bias, axis=0) != 0, axis=1)) + 1
     assert len(change) > 10
     assert np.all(change % 5 == 1)
@@ -70,23 +70,23 @@ def test_a_bad_sample_deep_in_a_chunk_is_named_and_the_state_kept():
     from strapdown.fusion import AttitudeEstimator
 
     n = 1000
-    gyr = np.zeros((n, 3))
+    gyro = np.zeros((n, 3))
     acc = np.tile([0.0, 0.0, 9.81], (n, 1))
     mag = np.tile([0.0, 20.0, -40.0], (n, 1))
     f = AttitudeEstimator()
-    f.update(gyr, acc, mag, dt=0.01)
+    f.update(gyro, acc, mag, dt=0.01)
     before = f.state
     cases = [
-        ("gyr", 700, [0.0, np.inf, 0.0], "gyr[700, 1] is infinite"),
+        ("gyro", 700, [0.0, np.inf, 0.0], "gyro[700, 1] is infinite"),
         ("acc", 500, [1e101, 0.0, 9.81], "acc[500] = [1e+101, 0.0, 9.81] is beyond 1e+100"),
         ("mag", 900, [np.nan, 20.0, -40.0], "mag[900] is partly NaN"),
-        ("gyr", 800, [0.0, 0.0, 1e15], "gyr[800] turns by 1e+13 rad"),
+        ("gyro", 800, [0.0, 0.0, 1e15], "gyro[800] turns by 1e+13 rad"),
     ]
     for name, k, row, message in cases:
-        data = {"gyr": gyr.copy(), "acc": acc.copy(), "mag": mag.copy()}
+        data = {"gyro": gyro.copy(), "acc": acc.copy(), "mag": mag.copy()}
         data[name][k] = row
         try:
-            f.update(data["gyr"], data["acc"], data["mag"], dt=0.01)
+            f.update(data["gyro"], data["acc"], data["mag"], dt=0.01)
         except ValueError as e:
             assert message in str(e), str(e)
         else:
@@ -97,5 +97,5 @@ def test_a_bad_sample_deep_in_a_chunk_is_named_and_the_state_kept():
     # rows without a sample (all NaN) are not bad samples
     data = acc.copy()
     data[::7] = np.nan
-    est = f.update(gyr, data, mag, dt=0.01)
+    est = f.update(gyro, data, mag, dt=0.01)
     assert np.all(np.isfinite(est.q)) and np.all(est.flags[::7] & 2)

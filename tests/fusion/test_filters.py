@@ -201,7 +201,7 @@ def test_an_empty_chunk_has_the_fields_of_a_full_one(cls, motion):
 @pytest.mark.parametrize("cls", FILTERS)
 def test_bad_input_is_named(cls):
     g, a, m = still(np.array([1.0, 0, 0, 0]), 5)
-    with pytest.raises(ValueError, match="acc has 4 samples but gyr has 5"):
+    with pytest.raises(ValueError, match="acc has 4 samples but gyro has 5"):
         cls().update(g, a[:4], dt=0.01)
     with pytest.raises(ValueError, match="mag has 3 samples"):
         cls().update(g, a, m[:3], dt=0.01)

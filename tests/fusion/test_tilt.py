@@ -275,7 +275,7 @@ def test_bad_input_is_named():
         tilt(g, a, dt=0.01, known_acc=np.zeros((5, 2)))
     bad = g.copy()
     bad[3, 1] = np.nan
-    with pytest.raises(ValueError, match=r"gyr\[3, 1\] is NaN"):
+    with pytest.raises(ValueError, match=r"gyro\[3, 1\] is NaN"):
         tilt(bad, a, dt=0.01)
     with pytest.raises(ValueError, match="dt must be positive"):
         tilt(g, a, dt=0.0)
@@ -312,15 +312,15 @@ def test_the_rate_is_interpolated_across_lost_rows():
     # interval errs by alpha dt²/2 per lost row, 0.16° in all here)
     alpha, dt, n = np.radians(20.0), 0.01, 800
     tk = np.arange(1, n + 1) * dt
-    gyr = np.zeros((n, 3))
-    gyr[:, 0] = alpha * (tk - 0.5 * dt)  # the mean rate over each step
+    gyro = np.zeros((n, 3))
+    gyro[:, 0] = alpha * (tk - 0.5 * dt)  # the mean rate over each step
     angle = 0.5 * alpha * tk**2
     truth = np.column_stack([np.cos(angle / 2), np.sin(angle / 2), 0 * angle, 0 * angle])
     acc = np.column_stack([0 * angle, G * np.sin(angle), G * np.cos(angle)])
     keep = np.random.default_rng(2).random(n) >= 0.2
     keep[0] = True
     params = TiltParams(tau_acc=1e6, tau_bias=0.0)  # the gyro alone: the test is of the integration
-    est = TiltEstimator(params, q0=truth[0]).update(gyr[keep], acc[keep], t=tk[keep])
+    est = TiltEstimator(params, q0=truth[0]).update(gyro[keep], acc[keep], t=tk[keep])
     err = np.degrees(attitude_errors(est.q, truth[keep])["total"])
     assert err.max() < 0.003  # measured 0.0023° (the nominal interval starts following runs of lost rows)
 
@@ -423,14 +423,14 @@ def test_a_gyro_scale_error_is_learnt_in_sustained_rotation():
     dt, n = 0.01, 30000
     tk = np.arange(1, n + 1) * dt
     theta = 1.5 * tk - (0.7 / 0.3) * (np.cos(0.3 * tk) - 1)  # ∫ 1.5 + 0.7 sin(0.3 t)
-    gyr = np.zeros((n, 3))
-    gyr[:, 0] = 1.01 * np.diff(theta, prepend=0.0) / dt  # the mean rate over each step, read 1 % high
+    gyro = np.zeros((n, 3))
+    gyro[:, 0] = 1.01 * np.diff(theta, prepend=0.0) / dt  # the mean rate over each step, read 1 % high
     truth = np.column_stack([np.cos(theta / 2), np.sin(theta / 2), 0 * theta, 0 * theta])
     acc = np.column_stack([0 * theta, G * np.sin(theta), G * np.cos(theta)])
 
     def run(params):
         f = TiltEstimator(params, q0=truth[0])
-        est = f.update(gyr, acc, dt=dt)
+        est = f.update(gyro, acc, dt=dt)
         e = np.degrees(attitude_errors(est.q[-10000:], truth[-10000:])["inclination"])
         return f, np.sqrt(np.mean(e**2))
 
@@ -453,7 +453,7 @@ def test_an_accelerometer_bias_on_a_turntable_is_learnt_as_a_gyro_bias():
         ConstantRotation([0.0, 0.0, rate], duration=300.0),
         100.0,
         gyro="average",
-        imu=ImuModel(accel=TriadModel(bias=acc_bias)),
+        imu=ImuModel(acc=TriadModel(bias=acc_bias)),
         reference="ENU",
         body="FLU",
     )

@@ -296,7 +296,7 @@ def fusion_at_rest_and_turning(seed: int = 3) -> tuple[str, dict]:
     consumer = ImuModel.consumer_mems()
     # a calibrated magnetometer (hard and soft iron removed, its noise left): a filter cannot tell an
     # uncalibrated one's heading error from the truth; magnetic north taken as north, so heading is comparable
-    imu = ImuModel(gyro=consumer.gyro, accel=consumer.accel, mag=TriadModel(noise_density=consumer.mag.noise_density))
+    imu = ImuModel(gyro=consumer.gyro, acc=consumer.acc, mag=TriadModel(noise_density=consumer.mag.noise_density))
     field = MagneticField(declination_deg=0.0)
     data = sample(
         motion, 100.0, imu=imu, magnetic_field=field, disturbances=[magnet], reference="ENU", body="FLU", seed=seed

@@ -23,6 +23,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 from . import _ellipsoid as _e
 from . import _linear
 from ._calibration import Calibration
@@ -36,7 +37,7 @@ _FACE_COS = np.cos(np.radians(25.0))  # a pose is "axis up/down" within 25° of 
 _FACES = ("+x", "-x", "+y", "-y", "+z", "-z")
 
 
-def _poses(acc, fs, gyr, rests, rest_options) -> tuple[list[np.ndarray], list]:
+def _poses(acc, fs, gyro, rests, rest_options) -> tuple[list[np.ndarray], list]:
     """The readings of each pose, and where each came from."""
     if isinstance(acc, Sequence) and not isinstance(acc, np.ndarray) and len(acc) and np.ndim(acc[0]) == 2:
         return [_rows(p, f"acc[{i}]") for i, p in enumerate(acc)], [f"acc[{i}]" for i in range(len(acc))]
@@ -47,7 +48,7 @@ def _poses(acc, fs, gyr, rests, rest_options) -> tuple[list[np.ndarray], list]:
     if rests is None:
         if fs is None:
             raise ValueError("fs (Hz) is needed to find the rests in acc; or give rests=[(start, stop), ...]")
-        rests = find_rests(r, gyr, fs=fs, **rest_options)
+        rests = find_rests(r, gyro, fs=fs, **rest_options)
     rests = np.asarray(rests, dtype=np.int64).reshape(-1, 2)
     bad = (rests[:, 0] < 0) | (rests[:, 1] > len(r)) | (rests[:, 1] - rests[:, 0] < 2)
     if bad.any():
@@ -71,11 +72,12 @@ def _six_position(faces, gravity) -> np.ndarray:
     return g_body
 
 
+@renamed(gyr="gyro")
 def accelerometer(
     acc,
     *,
     fs: float | None = None,
-    gyr=None,
+    gyro=None,
     rests=None,
     gravity: float = GRAVITY,
     frame: str = "sensor",
@@ -91,7 +93,7 @@ def accelerometer(
         ``rests``; or the readings of each pose, one array per pose.
     fs : float, optional
         Sample rate (Hz), to find the rests.
-    gyr : array_like, shape (N, 3), optional
+    gyro : array_like, shape (N, 3), optional
         Gyro readings (rad/s) of the recording, to find the rests more surely.
     rests : array_like of int, shape (K, 2), optional
         ``[start, stop)`` of each pose's samples, instead of finding them.
@@ -137,7 +139,7 @@ def accelerometer(
     gravity = float(_v.finite(gravity, "gravity", dtype=np.float64))
     if not gravity > 0:
         raise ValueError(f"gravity is {gravity}; it must be positive (m/s²)")
-    poses, where = _poses(acc, fs, gyr, rests, rest_options)
+    poses, where = _poses(acc, fs, gyro, rests, rest_options)
     if not poses:
         raise InsufficientMotionError(
             "no rest found in acc: hold the sensor still in each pose (at least "
@@ -191,7 +193,7 @@ def accelerometer(
         quality["direction_spread"] = spread.tolist()
     quality.update(residual_rms=rms, chi2=chi2)
     return Calibration(
-        "accelerometer",
+        "acc",
         offset=offset,
         matrix=matrix,
         frame=frame,

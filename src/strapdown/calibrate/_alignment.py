@@ -24,19 +24,19 @@ def kabsch(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return u @ np.diag([1.0, 1.0, d]) @ vt
 
 
-def align(c: np.ndarray, gyr: np.ndarray, fs: float, window: float, iterations: int = 50):
+def align(c: np.ndarray, gyro: np.ndarray, fs: float, window: float, iterations: int = 50):
     """R (magnetometer axes to gyro axes) and the rms angle of the residual directions (rad).
 
-    ``c`` (N, 3) calibrated field, NaN rows for missing samples; ``gyr`` (N, 3) bias-free mean rates over each
+    ``c`` (N, 3) calibrated field, NaN rows for missing samples; ``gyro`` (N, 3) bias-free mean rates over each
     step, rad/s (sample k of the field at the start of gyro step k).
     """
-    n = len(gyr)
+    n = len(gyro)
     size = max(2, round(window * fs))
     starts = range(0, n - 1, size)
     rel = np.full((n, 3, 3), np.nan)
     for s in starts:
         e = min(s + size, n)
-        q = integrate(gyr[s:e], 1.0 / fs, input="average")  # attitudes at the window's boundaries
+        q = integrate(gyro[s:e], 1.0 / fs, input="average")  # attitudes at the window's boundaries
         rel[s:e] = as_matrix(q[:-1])  # sample k: body at k to body at the window's start
     ok = np.isfinite(c).all(axis=1) & np.isfinite(rel).all(axis=(1, 2))
     window_of = np.arange(n) // size

@@ -24,6 +24,7 @@ from itertools import combinations
 import numpy as np
 
 from .._support import validate as _v
+from ._calibration import Calibration, sensor_name
 
 __all__ = ["AllanAnalysis", "allan"]
 
@@ -95,10 +96,11 @@ class AllanAnalysis:
         )
 
     def imu_model(self, *, sensor: str = "gyro", bias: bool = True):
-        """A :class:`strapdown.simulate.ImuModel` whose ``sensor`` ("gyro", "accel" or "mag") is :meth:`triad_model`."""
+        """A :class:`strapdown.simulate.ImuModel` whose ``sensor`` ("gyro", "acc" or "mag") is :meth:`triad_model`."""
         from ..simulate.imu import ImuModel
 
-        _v.choice(sensor, "sensor", ("gyro", "accel", "mag"))
+        sensor = "acc" if sensor == "accel" else sensor_name(sensor)  # the names of release 0.1 too
+        _v.choice(sensor, "sensor", ("gyro", "acc", "mag"))
         return ImuModel(**{sensor: self.triad_model(bias=bias)})
 
     def estimator_params(self) -> dict:
@@ -114,15 +116,13 @@ class AllanAnalysis:
         """Length of the record, s (the longest τ is a quarter of it by default)."""
         return float(self.n / self.fs)
 
-    def calibration(self, *, sensor: str = "gyroscope", frame: str = "sensor"):
+    def calibration(self, *, sensor: str = "gyro", frame: str = "sensor"):
         """The mean at rest as a bias-only :class:`~strapdown.calibrate.Calibration`.
 
         Its sigma is the white-noise level ``N/√T`` of a mean over the record's T seconds, as for
         :func:`~strapdown.calibrate.gyroscope`'s bias from rests; a wandering bias (B, K) moves the mean of
         another record by more, about the Allan deviation at that record's length.
         """
-        from ._calibration import Calibration
-
         t = self.duration
         sigma = self.arw / np.sqrt(t)
         if self.mean.shape != (3,):

@@ -21,7 +21,14 @@ from .._support import validate as _v
 __all__ = ["SENSORS", "Calibration", "load", "save"]
 
 #: Sensor names and the units their readings are in.
-SENSORS = {"magnetometer": "uT", "accelerometer": "m/s^2", "gyroscope": "rad/s"}
+SENSORS = {"mag": "uT", "acc": "m/s^2", "gyro": "rad/s"}
+# Release 0.1 named the sensors in full; its files and calls are read with these names still.
+_LONG_NAMES = {"magnetometer": "mag", "accelerometer": "acc", "gyroscope": "gyro"}
+
+
+def sensor_name(name) -> str:
+    """A sensor's name, ``"gyro"``, ``"acc"`` or ``"mag"`` (release 0.1's full names are taken too)."""
+    return _LONG_NAMES.get(name, name)
 
 _FORMAT = "strapdown-calibration"
 _VERSION = 1
@@ -56,8 +63,8 @@ class Calibration:
 
     Parameters
     ----------
-    sensor : {"magnetometer", "accelerometer", "gyroscope"}
-        What was calibrated.
+    sensor : {"gyro", "acc", "mag"}
+        What was calibrated (the names of the whole library; ``"gyroscope"`` ... of release 0.1 are taken).
     offset : array_like, shape (3,)
         Hard iron or bias, in the reading's units.
     matrix : array_like, shape (3, 3)
@@ -80,7 +87,7 @@ class Calibration:
     --------
     >>> import numpy as np
     >>> from strapdown.calibrate import Calibration
-    >>> cal = Calibration("gyroscope", offset=[0.01, 0.0, -0.02], matrix=np.eye(3), frame="FLU")
+    >>> cal = Calibration("gyro", offset=[0.01, 0.0, -0.02], matrix=np.eye(3), frame="FLU")
     >>> cal.apply([[0.01, 1.0, -0.02]])
     array([[0., 1., 0.]])
     >>> Calibration.from_dict(cal.to_dict()).offset
@@ -98,6 +105,7 @@ class Calibration:
     method: str = ""
 
     def __post_init__(self):
+        object.__setattr__(self, "sensor", sensor_name(self.sensor))
         _v.choice(self.sensor, "sensor", tuple(SENSORS))
         offset = _v.finite(self.offset, "offset", dtype=np.float64)
         if offset.shape != (3,):
@@ -181,10 +189,10 @@ class Calibration:
         missing = [k for k in ("sensor", "offset", "matrix") if k not in data]
         if missing:
             raise ValueError(f"{source}: calibration entry lacks {', '.join(missing)}")
-        sensor = data["sensor"]
+        sensor = sensor_name(data["sensor"])
         if sensor in SENSORS and data.get("units", SENSORS[sensor]) != SENSORS[sensor]:
             raise ValueError(
-                f"{source}: the {sensor} calibration is in {data['units']!r}; strapdown reads {sensor}s in "
+                f"{source}: the {sensor} calibration is in {data['units']!r}; strapdown reads {sensor} readings in "
                 f"{SENSORS[sensor]!r}"
             )
 
@@ -223,6 +231,7 @@ class Calibration:
             Which sensor's calibration to take; needed only when the file holds several.
         """
         cals = load(path)
+        sensor = None if sensor is None else sensor_name(sensor)
         if sensor is None:
             if len(cals) != 1:
                 raise ValueError(f"{path} holds calibrations of {', '.join(cals)}; say which with sensor=")
@@ -320,7 +329,7 @@ def by_sensor(calibrations) -> dict:
     Returns
     -------
     dict of str to Calibration
-        By :attr:`Calibration.sensor` (``"gyroscope"``, ``"accelerometer"``, ``"magnetometer"``); empty for None.
+        By :attr:`Calibration.sensor` (``"gyro"``, ``"acc"``, ``"mag"``); empty for None.
 
     Examples
     --------

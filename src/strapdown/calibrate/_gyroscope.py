@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 from ..rotations.quaternion import canonical, conjugate, log, multiply
 from . import _ellipsoid as _e
 from . import _linear
@@ -58,8 +59,9 @@ def rates_from_attitude(q, fs: float) -> np.ndarray:
     return 2.0 * log(step)[:, 1:] * float(fs)
 
 
+@renamed(gyr="gyro")
 def gyroscope(
-    gyr,
+    gyro,
     *,
     fs: float | None = None,
     acc=None,
@@ -73,7 +75,7 @@ def gyroscope(
 
     Parameters
     ----------
-    gyr : array_like, shape (N, 3)
+    gyro : array_like, shape (N, 3)
         Angular rate, rad/s, sensor axes ``frame``.
     fs : float, optional
         Sample rate, Hz (to find rests, or to turn ``reference_attitude`` into rates).
@@ -82,7 +84,7 @@ def gyroscope(
     rests : array_like of int, shape (K, 2), optional
         ``[start, stop)`` of the rests, instead of finding them.
     reference_rate : array_like, shape (N, 3), optional
-        True body rates, rad/s (a turntable's), aligned with ``gyr``.
+        True body rates, rad/s (a turntable's), aligned with ``gyro``.
     reference_attitude : array_like, shape (N + 1, 4), optional
         True attitudes at the sample boundaries: gyro sample k is the mean rate from attitude k to k + 1.
     frame : str
@@ -93,7 +95,7 @@ def gyroscope(
     Returns
     -------
     Calibration
-        ``calibrated = matrix @ (gyr - offset)`` with one-sigma uncertainties (white-noise level).  Quality:
+        ``calibrated = matrix @ (gyro - offset)`` with one-sigma uncertainties (white-noise level).  Quality:
         ``noise`` (per-sample scatter, rad/s, per axis) and ``samples``; from rests also ``rests`` and
         ``bias_spread`` (standard deviation of the rests' means about the bias, rad/s: much above
         ``offset_sigma`` means the bias wanders); from a reference also ``scale_factor``, ``misalignment``,
@@ -109,15 +111,15 @@ def gyroscope(
     >>> import numpy as np
     >>> from strapdown.calibrate import gyroscope
     >>> rng = np.random.default_rng(0)
-    >>> gyr = [0.01, -0.02, 0.005] + 0.002 * rng.standard_normal((1000, 3))        # 10 s at rest
-    >>> cal = gyroscope(gyr, fs=100.0)
+    >>> gyro = [0.01, -0.02, 0.005] + 0.002 * rng.standard_normal((1000, 3))        # 10 s at rest
+    >>> cal = gyroscope(gyro, fs=100.0)
     >>> cal.offset.round(3), bool(np.all(cal.offset_sigma < 1e-4))
     (array([ 0.01 , -0.02 ,  0.005]), True)
     """
-    g = _v.as_float_array(gyr, "gyr", dtype=np.float64)
+    g = _v.as_float_array(gyro, "gyro", dtype=np.float64)
     if g.ndim != 2 or g.shape[1] != 3:
-        raise ValueError(f"gyr must have shape (N, 3) (one 3-vector per sample), got shape {g.shape}")
-    _v.check_finite(g, "gyr")
+        raise ValueError(f"gyro must have shape (N, 3) (one 3-vector per sample), got shape {g.shape}")
+    _v.check_finite(g, "gyro")
     if reference_rate is not None and reference_attitude is not None:
         raise ValueError("give reference_rate or reference_attitude, not both")
     if reference_attitude is not None:
@@ -137,12 +139,12 @@ def gyroscope(
 def _bias(g, fs, acc, rests, frame, rest_options) -> Calibration:
     if rests is None:
         if fs is None:
-            raise ValueError("fs (Hz) is needed to find the rests in gyr; or give rests=[(start, stop), ...]")
+            raise ValueError("fs (Hz) is needed to find the rests in gyro; or give rests=[(start, stop), ...]")
         rests = find_rests(acc, g, fs=fs, **rest_options)
     rests = np.asarray(rests, dtype=np.int64).reshape(-1, 2)
     if not len(rests):
         raise InsufficientMotionError(
-            "no rest found in gyr: keep the sensor still for at least "
+            "no rest found in gyro: keep the sensor still for at least "
             f"{rest_options.get('min_duration', 1.0)} s so that the bias can be read"
         )
     parts = [g[a:b] for a, b in rests]
@@ -157,7 +159,7 @@ def _bias(g, fs, acc, rests, frame, rest_options) -> Calibration:
         "bias_spread": (means.std(axis=0, ddof=1) if len(parts) > 1 else np.zeros(3)).tolist(),
     }
     return Calibration(
-        "gyroscope",
+        "gyro",
         offset=bias,
         matrix=np.eye(3),
         frame=frame,
@@ -171,7 +173,7 @@ def _bias(g, fs, acc, rests, frame, rest_options) -> Calibration:
 def _with_reference(g, reference_rate, frame) -> Calibration:
     w = _v.as_float_array(reference_rate, "reference_rate", dtype=np.float64)
     if w.shape != g.shape:
-        raise ValueError(f"reference_rate has shape {w.shape}; it must match gyr, {g.shape}")
+        raise ValueError(f"reference_rate has shape {w.shape}; it must match gyro, {g.shape}")
     _v.check_finite(w, "reference_rate")
     values, vectors = np.linalg.eigh(np.cov(w.T, bias=True))
     excitation = np.sqrt(np.maximum(values, 0.0))
@@ -185,7 +187,7 @@ def _with_reference(g, reference_rate, frame) -> Calibration:
     matrix, matrix_sigma, figures = _linear.correction(a, cov_a)
     quality = {"samples": len(g), "noise": noise.tolist(), "excitation": excitation[::-1].tolist(), **figures}
     return Calibration(
-        "gyroscope",
+        "gyro",
         offset=b,
         matrix=matrix,
         frame=frame,

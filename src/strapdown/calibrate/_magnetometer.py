@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 from . import _ellipsoid as _e
 from ._calibration import Calibration
 
@@ -87,14 +88,15 @@ def _normalise(fit: _e.EllipsoidFit) -> tuple[np.ndarray, np.ndarray, float, np.
     return c * w, fit.offset, c * fit.radius, cov
 
 
+@renamed(gyr="gyro", m="mag")
 def magnetometer(
-    m,
+    mag,
     *,
     field_strength: float | None = None,
     frame: str = "sensor",
     robust: bool = True,
     noise: float | None = None,
-    gyr=None,
+    gyro=None,
     fs: float | None = None,
     gyro_bias=None,
     window: float = 2.0,
@@ -103,7 +105,7 @@ def magnetometer(
 
     Parameters
     ----------
-    m : array_like, shape (N, 3)
+    mag : array_like, shape (N, 3)
         Readings, µT, in the sensor axes ``frame``; NaN rows (no sample) are skipped.  The sensor must turn
         through many directions (all axes up and down); a few per cent of outliers are tolerated.
     field_strength : float, optional
@@ -116,13 +118,13 @@ def magnetometer(
         Down-weight outliers (Huber); False gives the plain maximum-likelihood fit.
     noise : float, optional
         Known noise per axis and sample (µT); by default estimated from the residuals.
-    gyr : array_like, shape (N, 3), optional
+    gyro : array_like, shape (N, 3), optional
         Gyro readings of the same samples (rad/s, mean rate over the step that starts at each sample): the
         rotation of the magnetometer axes onto the gyro's, which the field alone cannot show, is fitted too
         (:mod:`strapdown.calibrate._alignment`), and the matrix becomes ``R W``: the calibrated field is in
         the gyro's axes.  Needs ``fs``.
     fs : float, optional
-        Sample rate, Hz (with ``gyr``).
+        Sample rate, Hz (with ``gyro``).
     gyro_bias : array_like, shape (3,), or Calibration, optional
         The gyro's bias (rad/s), removed before integrating (e.g. :func:`gyroscope` at rest); a gyro
         calibration's whole correction is applied.
@@ -132,7 +134,7 @@ def magnetometer(
     Returns
     -------
     Calibration
-        ``calibrated = matrix @ (m - offset)`` with the hard iron as offset and the symmetric soft-iron
+        ``calibrated = matrix @ (mag - offset)`` with the hard iron as offset and the symmetric soft-iron
         correction as matrix, their one-sigma uncertainties (``offset_sigma``, ``matrix_sigma``; first-order
         Cramér-Rao level for Gaussian noise), and ``quality``:
 
@@ -145,7 +147,7 @@ def magnetometer(
         * ``condition``: condition number of the scaled information matrix (large: poorly determined);
         * ``soft_iron_condition``: condition number of the matrix; ``outliers``: fraction of down-weighted
           samples (Huber weight < 0.5); ``samples``, ``iterations``;
-        * with ``gyr``: ``gyro_alignment_deg`` (the rotation R found) and ``alignment_residual_deg`` (rms
+        * with ``gyro``: ``gyro_alignment_deg`` (the rotation R found) and ``alignment_residual_deg`` (rms
           angle between the field turned by the gyro and as measured; the matrix sigmas do not include R's);
         * ``norm_scatter``, ``norm_scatter_raw``: standard deviation of the field magnitude after and before
           the calibration (µT, at the fitted scale), and ``warranted``: whether the fit cuts it more than
@@ -175,17 +177,17 @@ def magnetometer(
     >>> bool(np.std(np.linalg.norm(cal.apply(m), axis=1)) < 0.3)     # the norm is constant within the noise
     True
     """
-    full = _v.as_float_array(m, "m", dtype=np.float64)
-    r = _rows(m, "m")
+    full = _v.as_float_array(mag, "mag", dtype=np.float64)
+    r = _rows(mag, "mag")
     if len(r) < _MIN_SAMPLES:
-        raise ValueError(f"m has {len(r)} readings; the magnetometer fit needs at least {_MIN_SAMPLES}")
+        raise ValueError(f"mag has {len(r)} readings; the magnetometer fit needs at least {_MIN_SAMPLES}")
     if field_strength is not None:
         field_strength = float(_v.finite(field_strength, "field_strength", dtype=np.float64))
         if not field_strength > 0:
             raise ValueError(f"field_strength is {field_strength}; it must be positive (µT)")
     if noise is not None and not float(noise) > 0:
         raise ValueError(f"noise is {noise}; it must be positive (µT)")
-    _check_raw_motion(r, "m")
+    _check_raw_motion(r, "mag")
 
     start = _e.algebraic(r)
     if start is None:  # not an ellipsoid: start from a sphere about the mean
@@ -249,11 +251,11 @@ def magnetometer(
         "iterations": fit.iterations,
     }
     method = "ellipsoid: algebraic start, maximum-likelihood Levenberg-Marquardt" + (", Huber-robust" if robust else "")
-    if gyr is not None:
-        matrix = _align_to_gyro(full, offset, matrix, gyr, fs, gyro_bias, window, quality)
+    if gyro is not None:
+        matrix = _align_to_gyro(full, offset, matrix, gyro, fs, gyro_bias, window, quality)
         method += "; rotation onto the gyro axes"
     return Calibration(
-        "magnetometer",
+        "mag",
         offset=offset,
         matrix=matrix,
         frame=frame,
@@ -264,14 +266,14 @@ def magnetometer(
     )
 
 
-def _align_to_gyro(m, offset, matrix, gyr, fs, gyro_bias, window, quality) -> np.ndarray:
+def _align_to_gyro(m, offset, matrix, gyro, fs, gyro_bias, window, quality) -> np.ndarray:
     """``R W`` with R the rotation of the calibrated field onto the gyro's axes; figures into ``quality``."""
     from ._alignment import align
 
-    g = _v.as_float_array(gyr, "gyr", dtype=np.float64)
+    g = _v.as_float_array(gyro, "gyro", dtype=np.float64)
     if g.shape != m.shape:
-        raise ValueError(f"gyr has shape {g.shape}; it must match m, {m.shape} (one gyro sample per reading)")
-    _v.check_finite(g, "gyr")
+        raise ValueError(f"gyro has shape {g.shape}; it must match mag, {m.shape} (one gyro sample per reading)")
+    _v.check_finite(g, "gyro")
     if fs is None or not float(fs) > 0:
         raise ValueError(f"fs is {fs}; the gyro alignment needs the sample rate (Hz)")
     if isinstance(gyro_bias, Calibration):

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 
 __all__ = ["find_rests"]
 
@@ -43,9 +44,10 @@ def _triad(x, name: str) -> np.ndarray | None:
     return arr
 
 
+@renamed(gyr="gyro")
 def find_rests(
     acc=None,
-    gyr=None,
+    gyro=None,
     *,
     fs: float,
     window: float = 0.5,
@@ -60,7 +62,7 @@ def find_rests(
     ----------
     acc : array_like, shape (N, 3), optional
         Specific force, m/s².
-    gyr : array_like, shape (N, 3), optional
+    gyro : array_like, shape (N, 3), optional
         Angular rate, rad/s.
     fs : float
         Sample rate, Hz.
@@ -93,11 +95,11 @@ def find_rests(
            [322, 600]])
     """
     a = _triad(acc, "acc")
-    g = _triad(gyr, "gyr")
+    g = _triad(gyro, "gyro")
     if a is None and g is None:
-        raise ValueError("find_rests needs acc, gyr or both")
+        raise ValueError("find_rests needs acc, gyro or both")
     if a is not None and g is not None and len(a) != len(g):
-        raise ValueError(f"acc has {len(a)} samples and gyr {len(g)}; they must be sampled together")
+        raise ValueError(f"acc has {len(a)} samples and gyro {len(g)}; they must be sampled together")
     fs = float(_v.finite(fs, "fs", dtype=np.float64))
     if not fs > 0:
         raise ValueError(f"fs is {fs}; it must be positive (Hz)")

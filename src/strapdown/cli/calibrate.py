@@ -6,8 +6,6 @@ import click
 
 from ._options import columns_spec, input_argument, read_options
 
-_SENSOR = {"mag": "magnetometer", "acc": "accelerometer", "gyro": "gyroscope"}
-
 
 def _read(path, p: dict, require: tuple, optional: tuple = ()):
     """The whole recording: rate (Hz or None), and the readings of each kind read (SI units, file axes)."""
@@ -134,8 +132,8 @@ def mag_command(path, output, field_strength, lat, lon, date, no_robust, align_g
             from ..calibrate import load
 
             target = Path(output) if output else Path(path).with_suffix(".calibration.json")
-            bias = load(target).get("gyroscope") if target.exists() else None
-            gyro = {"gyr": data["gyro"], "fs": rate, "gyro_bias": bias}
+            bias = load(target).get("gyro") if target.exists() else None
+            gyro = {"gyro": data["gyro"], "fs": rate, "gyro_bias": bias}
         return magnetometer(data["mag"], field_strength=strength, robust=not no_robust, frame=axes, **gyro)
 
     _fit_and_write(fit, path, output)
@@ -154,7 +152,7 @@ def acc_command(path, output, gravity, min_rest, **p):
     def fit():
         rate, data, axes = _read(path, p, ("acc",), ("gyro",))
         return accelerometer(
-            data["acc"], fs=rate, gyr=data.get("gyro"), gravity=gravity, frame=axes, min_duration=min_rest
+            data["acc"], fs=rate, gyro=data.get("gyro"), gravity=gravity, frame=axes, min_duration=min_rest
         )
 
     _fit_and_write(fit, path, output)

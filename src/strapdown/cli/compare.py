@@ -32,8 +32,8 @@ def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
     import math
     from pathlib import Path
 
-    from ..propagate.integrate import METHODS
     from ..evaluate.compare import compare as run_compare
+    from ..propagate.integrate import METHODS
     from ..simulate import ImuModel, sample
     from ..simulate.scenarios import scenario as make
 

@@ -47,8 +47,8 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
     from pathlib import Path
 
     from .._support.files import scratch_dir
-    from ..io.pipelines.plot import plot_file
     from ..io import Angles
+    from ..io.pipelines.plot import plot_file
 
     try:
         angles = Angles(seq, not radians, yaw_range)

@@ -46,7 +46,7 @@ class Trial:
     ----------
     name : str
         File stem, e.g. ``"01_undisturbed_slow_rotation_A"``.
-    gyr, acc, mag : numpy.ndarray, shape (N, 3)
+    gyro, acc, mag : numpy.ndarray, shape (N, 3)
         Angular rate (rad/s), specific force (m/s²) and magnetic field (µT), sensor axes.
     quat : numpy.ndarray, shape (N, 4)
         True attitude, sensor to ENU, NaN rows where the optical truth is missing.
@@ -61,7 +61,7 @@ class Trial:
     """
 
     name: str
-    gyr: np.ndarray
+    gyro: np.ndarray
     acc: np.ndarray
     mag: np.ndarray
     quat: np.ndarray
@@ -72,12 +72,17 @@ class Trial:
     path: Path | None = field(default=None, repr=False)
 
     @property
+    def gyr(self) -> np.ndarray:
+        """``gyro`` by its name of release 0.1 (BROAD's own files say ``imu_gyr``)."""
+        return self.gyro
+
+    @property
     def dt(self) -> float:
         """Sampling interval, s."""
         return 1.0 / self.rate
 
     def __len__(self) -> int:
-        return self.gyr.shape[0]
+        return self.gyro.shape[0]
 
 
 def load_trial(path, groups=(), description: str = "") -> Trial:
@@ -109,12 +114,12 @@ def load_trial(path, groups=(), description: str = "") -> Trial:
             raise ValueError(f"{path}: {key} must have shape (N, {width}), got {a.shape}")
         return a
 
-    gyr, acc, mag, quat = triad("imu_gyr"), triad("imu_acc"), triad("imu_mag"), triad("opt_quat", 4)
+    gyro, acc, mag, quat = triad("imu_gyr"), triad("imu_acc"), triad("imu_mag"), triad("opt_quat", 4)
     movement = np.asarray(d["movement"]).reshape(-1).astype(bool)
-    n = gyr.shape[0]
+    n = gyro.shape[0]
     if not (acc.shape[0] == mag.shape[0] == quat.shape[0] == movement.shape[0] == n):
         raise ValueError(f"{path}: the fields have different lengths")
-    for key, a in (("imu_gyr", gyr), ("imu_acc", acc), ("imu_mag", mag)):
+    for key, a in (("imu_gyr", gyro), ("imu_acc", acc), ("imu_mag", mag)):
         if not np.isfinite(a).all():
             raise ValueError(f"{path}: {key} holds NaN or infinite values")
     rate = _rate(path, d["sampling_rate"])
@@ -128,7 +133,7 @@ def load_trial(path, groups=(), description: str = "") -> Trial:
         )
     if not (known & movement).any():
         raise ValueError(f"{path}: no movement sample has a true attitude (opt_quat NaN there): nothing to score")
-    return Trial(path.stem, gyr, acc, mag, quat, movement, rate, tuple(groups), description, path)
+    return Trial(path.stem, gyro, acc, mag, quat, movement, rate, tuple(groups), description, path)
 
 
 def _rate(path: Path, value) -> float:

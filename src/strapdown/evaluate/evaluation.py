@@ -195,7 +195,7 @@ def _runner(estimator, params, use_mag: bool, start: str) -> tuple[Callable[[Tri
         f = cls(p, q0=q0, frame="ENU")
         mag = trial.mag if use_mag else None
         try:
-            return f.update(trial.gyr, trial.acc, mag, dt=trial.dt).q
+            return f.update(trial.gyro, trial.acc, mag, dt=trial.dt).q
         except SampleError as exc:  # the filter's words name its arrays and index: here, the trial and its sample
             raise ValueError(f"{trial.path or trial.name}: sample {exc.sample + 1} of {len(trial)}: {exc}") from None
 
@@ -300,7 +300,7 @@ def _check_estimate(q: np.ndarray, trial: Trial) -> None:
     k = int(lost[0])
     while k > 0 and nan[k - 1]:  # where the estimate was lost, before the first sample that counts
         k -= 1
-    readings = {"imu_gyr": trial.gyr[k], "imu_acc": trial.acc[k], "imu_mag": trial.mag[k]}
+    readings = {"imu_gyr": trial.gyro[k], "imu_acc": trial.acc[k], "imu_mag": trial.mag[k]}
     # the reading most out of scale at that row, relative to its usual size (rad/s, m/s², µT)
     name = max(readings, key=lambda n: np.max(np.abs(readings[n])) / {"imu_gyr": 1, "imu_acc": 9.81, "imu_mag": 50}[n])
     raise ValueError(

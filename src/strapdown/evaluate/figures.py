@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._support.files import _umask
 from .._support.deps import need
+from .._support.files import _umask
 from ..rotations.values import Angles, column_names, to_values
 
 __all__ = [

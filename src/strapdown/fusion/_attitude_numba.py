@@ -168,7 +168,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squares):
+def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squares):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
 
     dts: the sample intervals; sample k's is ``dts[min(k, len(dts) - 1)]``, so a constant interval may come as
@@ -184,7 +184,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     (``seg_val[1, i]``: each part contiguous, handed on without a copy); the arrays need room for every block
     that ends in the chunk and the unfinished one (attitude.py sizes them; more blocks than they hold stop the
     kernel); returns how many were written.
-    ``squares`` gets the sums of squares of gyr, acc and (9D) mag added, for the input checks
+    ``squares`` gets the sums of squares of gyro, acc and (9D) mag added, for the input checks
     (Estimator.checks_in_kernel).
 
     Speed: the per-sample recursion (gyro frame, filter, correction) runs first over a block and writes the 6D
@@ -251,13 +251,13 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     kx = ky = kz = ex = ey = ez = 0.0
     start = 0  # first sample of the current block in this chunk
     n_seg = 0
-    n = gyr.shape[0]
+    n = gyro.shape[0]
     for k in range(n):
         dt = dts[min(k, last)]
         flag = 0
-        wx = gyr[k, 0]
-        wy = gyr[k, 1]
-        wz = gyr[k, 2]
+        wx = gyro[k, 0]
+        wy = gyro[k, 1]
+        wz = gyro[k, 2]
         # 1. gyro frame with the bias and scale factor of the last block update; over an interval that holds
         # missing samples, the rate interpolated across the gap (gap_step)
         if 0.0 < dt <= nominal:  # regular: gap_rate's rate is the sample's own (weight 0 for the previous one)
@@ -266,7 +266,7 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
         else:  # the previous sample (the state's for the first) is read only here
             px, py, pz = gpx, gpy, gpz
             if k > 0:
-                px, py, pz = gyr[k - 1, 0], gyr[k - 1, 1], gyr[k - 1, 2]
+                px, py, pz = gyro[k - 1, 0], gyro[k - 1, 1], gyro[k - 1, 2]
             ox, oy, oz, nominal, _, _, _ = gap_rate(dt, nominal, wx, wy, wz, px, py, pz)
         if dt != c_dt:
             c_dt = dt
@@ -314,10 +314,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
             if use_mag:
-                _sums9(out, gyr, mag, dts, start, k + 1, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
+                _sums9(out, gyro, mag, dts, start, k + 1, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
             else:
-                _sums(out, gyr, dts, start, k + 1, sums, squares)
-            _rest(gyr, acc, dts, start, k + 1, p, rs, flags, squares)
+                _sums(out, gyro, dts, start, k + 1, sums, squares)
+            _rest(gyro, acc, dts, start, k + 1, p, rs, flags, squares)
             # never with the sizes _run gives (no writes out of bounds)
             if n_seg >= seg_end.shape[0] - 1 or n_seg >= seg_val.shape[1] - 1:
                 raise ValueError("AttitudeEstimator: more blocks than the segment buffers hold")
@@ -376,10 +376,10 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     # the unfinished block: its sums so far are kept in the state
     sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
     if use_mag:
-        _sums9(out, gyr, mag, dts, start, n, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
+        _sums9(out, gyro, mag, dts, start, n, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
     else:
-        _sums(out, gyr, dts, start, n, sums, squares)
-    _rest(gyr, acc, dts, start, n, p, rs, flags, squares)
+        _sums(out, gyro, dts, start, n, sums, squares)
+    _rest(gyro, acc, dts, start, n, p, rs, flags, squares)
     if start < n:
         seg_end[n_seg] = n
         seg_val[0, n_seg, 0], seg_val[0, n_seg, 1], seg_val[0, n_seg, 2] = bx, by, bz
@@ -407,14 +407,14 @@ def run(gyr, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squa
     s[ALAST : ALAST + 3] = rs[8:11]
     s[TACC] = t_acc
     if n and dts[min(n - 1, last)] > 0.0:  # the last sample with an interval (gap_rate)
-        gpx, gpy, gpz = gyr[n - 1, 0], gyr[n - 1, 1], gyr[n - 1, 2]
+        gpx, gpy, gpz = gyro[n - 1, 0], gyro[n - 1, 1], gyro[n - 1, 2]
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
     s[QN] = n_raw
     return n_seg
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
+def _rest(gyro, acc, dts, j0, j1, p, rs, flags, squares):
     """Rest detection over samples j0..j1-1 (module notes, step 4), and their rest flag.
 
     Gyro and accelerometer close to their 0.5 s means for rest_time, the mean rate plausible as a bias.  Nothing
@@ -436,7 +436,7 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
             rr = 1.0 - math.exp(-dt / rest_tau)
             keep2 = (1.0 - rr) * (1.0 - rr)
             last_dt = dt
-        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        wx, wy, wz = gyro[j, 0], gyro[j, 1], gyro[j, 2]
         a0, a1, a2 = acc[j, 0], acc[j, 1], acc[j, 2]
         acc2 += a0 * a0 + a1 * a1 + a2 * a2  # NaN for a missing sample: the input checks then look closer
         if a0 == a0:  # a missing sample holds the last one
@@ -466,7 +466,7 @@ def _rest(gyr, acc, dts, j0, j1, p, rs, flags, squares):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _sums(out, gyr, dts, j0, j1, sums, squares):
+def _sums(out, gyro, dts, j0, j1, sums, squares):
     """Add samples j0..j1-1 to the block sums, time-weighted (6D; 9D: _sums9).
 
     The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|².  The rows
@@ -480,7 +480,7 @@ def _sums(out, gyr, dts, j0, j1, sums, squares):
     for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
-        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        wx, wy, wz = gyro[j, 0], gyro[j, 1], gyro[j, 2]
         t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
         r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
         r01 = (qx * qy - qw * qz) * t2
@@ -509,7 +509,7 @@ def _sums(out, gyr, dts, j0, j1, sums, squares):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
+def _sums9(out, gyro, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     """_sums in 9D, one loop: also the vertical row of R(q), the same times diag(omega), and the field.
 
     For the samples with a field, the field in the 6D frame, R(q) m, is formed from the rows already at hand
@@ -531,7 +531,7 @@ def _sums9(out, gyr, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
         qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
-        wx, wy, wz = gyr[j, 0], gyr[j, 1], gyr[j, 2]
+        wx, wy, wz = gyro[j, 0], gyro[j, 1], gyro[j, 2]
         t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
         r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
         r01 = (qx * qy - qw * qz) * t2

@@ -21,6 +21,7 @@ from numbers import Real
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 from ..rotations.frames import check_frame, frame_quaternion
 from ..rotations.quaternion import multiply, rotate
 
@@ -47,7 +48,7 @@ GRAVITY = 9.80665
 # NaN, and no sensor or clock comes near them.
 MAX_SAMPLE = 1e100  # largest |component| of a gyro, accelerometer or magnetometer sample, in any unit
 MAX_DT = 1e9  # s (32 years): the longest sample interval
-MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps  # rad: |gyr| dt of one sample, as in strapdown.integrate
+MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps  # rad: |gyro| dt of one sample, as in strapdown.integrate
 
 
 @dataclass
@@ -212,22 +213,22 @@ def _in_range(arr: np.ndarray, name: str) -> None:
         )
 
 
-def _triads(gyr, acc, mag, need_mag: bool, missing: bool = False, check: bool = True):
-    """gyr, acc, mag checked and C-contiguous float64 (no copy when they are already), and a bound of |gyr|.
+def _triads(gyro, acc, mag, need_mag: bool, missing: bool = False, check: bool = True):
+    """gyro, acc, mag checked and C-contiguous float64 (no copy when they are already), and a bound of |gyro|.
 
     Without ``check``, the values are not looked at (only dtypes and shapes; the bound is None).
     """
-    g, g_max = _sensor(gyr, "gyr", False, check)
+    g, g_max = _sensor(gyro, "gyro", False, check)
     a, _ = _sensor(acc, "acc", missing, check)
     if g.ndim != 2 or a.ndim != 2:
-        raise ValueError(f"gyr and acc must have shape (N, 3), got {g.shape} and {a.shape}")
+        raise ValueError(f"gyro and acc must have shape (N, 3), got {g.shape} and {a.shape}")
     if a.shape != g.shape:
-        raise ValueError(f"acc has {a.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
+        raise ValueError(f"acc has {a.shape[0]} samples but gyro has {g.shape[0]}; give one of each per sample")
     m = None
     if mag is not None:
         m, _ = _sensor(mag, "mag", missing, check)
         if m.shape != g.shape:
-            raise ValueError(f"mag has {m.shape[0]} samples but gyr has {g.shape[0]}; give one of each per sample")
+            raise ValueError(f"mag has {m.shape[0]} samples but gyro has {g.shape[0]}; give one of each per sample")
         m = np.ascontiguousarray(m)
     elif need_mag:
         raise ValueError("this filter was created for magnetometer data (9D): give mag, or create it without")
@@ -257,7 +258,7 @@ class Estimator:
     _state_layout: tuple[tuple[str, tuple[int, ...]], ...] = (("q", (4,)),)
     _unit_keys: tuple[str, ...] = ("q",)
     _optional_keys: tuple[str, ...] = ()  # entries an older state may lack (the kernel call has a default)
-    # True: _run returns (estimate, sums of squares of gyr, acc and mag over the chunk), formed by the kernel as it
+    # True: _run returns (estimate, sums of squares of gyro, acc and mag over the chunk), formed by the kernel as it
     # reads the samples, and the samples are checked only if those are not within bounds (a pass over the input
     # less; a bad chunk's results are thrown away and the state put back, as for a diverging one)
     checks_in_kernel = False
@@ -352,12 +353,13 @@ class Estimator:
             self._t_last = float(tt[-1])
         return d
 
-    def update(self, gyr, acc, mag=None, *, dt=None, t=None, **inputs) -> Estimate:
+    @renamed(gyr="gyro")
+    def update(self, gyro, acc, mag=None, *, dt=None, t=None, **inputs) -> Estimate:
         """Process a chunk of samples; any chunking gives the same result.
 
         Parameters
         ----------
-        gyr : array_like, shape (N, 3)
+        gyro : array_like, shape (N, 3)
             Angular rate, rad/s, sensor axes.
         acc : array_like, shape (N, 3)
             Specific force, m/s² (+g along body up at rest).
@@ -378,7 +380,7 @@ class Estimator:
         """
         deferred = self.checks_in_kernel
         g, a, m, g_max = _triads(
-            gyr, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples, check=not deferred
+            gyro, acc, mag, need_mag=bool(self._use_mag), missing=self.missing_samples, check=not deferred
         )
         # what a diverging chunk puts back (the kernels update the state arrays in place)
         kept = None
@@ -394,7 +396,7 @@ class Estimator:
         extra_in = self._prepare_inputs(n, **inputs)
         if self._state is None:
             if n == 0:
-                return float32_if(self._empty(), gyr, acc, mag)
+                return float32_if(self._empty(), gyro, acc, mag)
             self._use_mag = m is not None
             if deferred:  # the rows the initialisation reads are checked first
                 k = _first_present(a, "acc") + 1
@@ -424,14 +426,14 @@ class Estimator:
             k = int(np.flatnonzero(~np.isfinite(out.q).all(axis=-1))[0])
             self._state, self._t_last, self._use_mag = saved
             raise _v.SampleError(
-                f"the filter diverged at sample {k} (gyr {g[k].tolist()}, acc {a[k].tolist()}); the state before this "
+                f"the filter diverged at sample {k} (gyro {g[k].tolist()}, acc {a[k].tolist()}); the state before this "
                 "chunk is kept",
                 k,
             )
         if out.q.size and self.frame != self.natural_frame:
             out.q = multiply(self._to_out, out.q, check=False)
         out.frame = self.frame
-        return float32_if(out, gyr, acc, mag)
+        return float32_if(out, gyro, acc, mag)
 
     def _check_after(self, g, a, m, dts, squares) -> None:
         """checks_in_kernel: raise as the checks before the kernel would have (the sums tell when to look)."""
@@ -454,7 +456,7 @@ class Estimator:
             raise ValueError(f"unexpected inputs: {', '.join(inputs)}")
         return {}
 
-    def _initial(self, gyr, acc, mag, dts, extra_in) -> np.ndarray:
+    def _initial(self, gyro, acc, mag, dts, extra_in) -> np.ndarray:
         """Initial attitude in the natural frame from the first sample: tilt from acc, heading from mag.
 
         With missing samples allowed, the first accelerometer sample present is used, turned back by the gyro to
@@ -463,14 +465,14 @@ class Estimator:
         such an estimator takes its heading from the first field it gets.
         """
         ka = _first_present(acc, "acc")
-        a = _back_to_first_sample(gyr, dts, ka, acc[ka])
+        a = _back_to_first_sample(gyro, dts, ka, acc[ka])
         m = None if mag is None or np.isnan(mag[0, 0]) else mag[0]
         return initial_attitude(a, m, self.natural_frame)
 
-    def _new_state(self, q, gyr, acc, mag, dts, extra_in) -> dict:
+    def _new_state(self, q, gyro, acc, mag, dts, extra_in) -> dict:
         raise NotImplementedError
 
-    def _run(self, gyr, acc, mag, dts, extra_in) -> Estimate:
+    def _run(self, gyro, acc, mag, dts, extra_in) -> Estimate:
         raise NotImplementedError
 
 
@@ -559,9 +561,9 @@ def float32_if(est: Estimate, *inputs) -> Estimate:
 
 
 def _check_steps(g: np.ndarray, dts: np.ndarray, g_max: float) -> None:
-    """Raise unless every interval is at most MAX_DT and every gyro step |gyr| dt at most MAX_STEP_ANGLE.
+    """Raise unless every interval is at most MAX_DT and every gyro step |gyro| dt at most MAX_STEP_ANGLE.
 
-    ``g_max`` bounds every |gyr| component: that rate over the longest interval within bounds settles it.
+    ``g_max`` bounds every |gyro| component: that rate over the longest interval within bounds settles it.
     """
     if dts.size:
         longest = dts.max()
@@ -578,13 +580,13 @@ def _check_steps(g: np.ndarray, dts: np.ndarray, g_max: float) -> None:
     if not (step <= MAX_STEP_ANGLE).all():
         k = int(np.flatnonzero(~(step <= MAX_STEP_ANGLE))[0])
         raise _v.SampleError(
-            f"gyr[{k}] turns by {step[k]:.3g} rad in one sample, beyond {MAX_STEP_ANGLE:.3g} rad where float64 "
+            f"gyro[{k}] turns by {step[k]:.3g} rad in one sample, beyond {MAX_STEP_ANGLE:.3g} rad where float64 "
             "cannot hold a step's angle; check the units and the time step",
             k,
         )
 
 
-def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarray) -> np.ndarray:
+def _back_to_first_sample(gyro: np.ndarray, dts: np.ndarray, k: int, v: np.ndarray) -> np.ndarray:
     """A vector read by the sensor at the end of sample k, in the sensor axes at the end of sample 0.
 
     The sensor turns by the product of the steps 1..k: v_0 = D ⊗ v_k ⊗ D* (the bias is not known yet).
@@ -594,7 +596,7 @@ def _back_to_first_sample(gyr: np.ndarray, dts: np.ndarray, k: int, v: np.ndarra
     from ..propagate.integrate import integrate
 
     h = dts[1 : k + 1] if len(dts) > k else dts[-1]  # compact intervals: dts[-1] is every later one
-    return rotate(integrate(gyr[1 : k + 1], dt=h)[-1], v)
+    return rotate(integrate(gyro[1 : k + 1], dt=h)[-1], v)
 
 
 def _first_present(arr: np.ndarray, name: str) -> int:

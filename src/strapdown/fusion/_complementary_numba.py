@@ -10,7 +10,7 @@ from ._kernels_numba import left_step, right_step, rotate, tilt_to_vertical
 
 
 @nb.njit(cache=True, error_model="numpy")
-def run(gyr, acc, mag, use_mag, dts, tau_acc, tau_mag, gravity, acc_gate, q, out, flags):
+def run(gyro, acc, mag, use_mag, dts, tau_acc, tau_mag, gravity, acc_gate, q, out, flags):
     """Quaternion complementary filter in ENU; q updated in place.
 
     Gyro step q ← q ⊗ exp(ω dt/2); then, in the reference frame, a fraction 1 - exp(-dt/τ_acc) of the tilt
@@ -21,9 +21,9 @@ def run(gyr, acc, mag, use_mag, dts, tau_acc, tau_mag, gravity, acc_gate, q, out
     x = q[1]
     y = q[2]
     z = q[3]
-    for k in range(gyr.shape[0]):
+    for k in range(gyro.shape[0]):
         dt = dts[k]
-        w, x, y, z = right_step(w, x, y, z, gyr[k, 0] * dt, gyr[k, 1] * dt, gyr[k, 2] * dt)
+        w, x, y, z = right_step(w, x, y, z, gyro[k, 0] * dt, gyro[k, 1] * dt, gyro[k, 2] * dt)
         flag = 0
         ax = acc[k, 0]
         ay = acc[k, 1]

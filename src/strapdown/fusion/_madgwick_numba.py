@@ -8,7 +8,7 @@ import numba as nb
 
 
 @nb.njit(cache=True, error_model="numpy")
-def run(gyr, acc, mag, use_mag, dts, beta, slip, q, out):
+def run(gyro, acc, mag, use_mag, dts, beta, slip, q, out):
     """Madgwick's gradient-descent filter, sample by sample, in his NWU earth frame; q is updated in place.
 
     qdot = ½ q ⊗ ω - β ∇f/|∇f|, q += qdot dt, normalise.  f stacks the accelerometer residual
@@ -22,10 +22,10 @@ def run(gyr, acc, mag, use_mag, dts, beta, slip, q, out):
     q1 = q[1]
     q2 = q[2]
     q3 = q[3]
-    for k in range(gyr.shape[0]):
-        gx = gyr[k, 0]
-        gy = gyr[k, 1]
-        gz = gyr[k, 2]
+    for k in range(gyro.shape[0]):
+        gx = gyro[k, 0]
+        gy = gyro[k, 1]
+        gz = gyro[k, 2]
         d0 = 0.5 * (-q1 * gx - q2 * gy - q3 * gz)
         d1 = 0.5 * (q0 * gx + q2 * gz - q3 * gy)
         d2 = 0.5 * (q0 * gy - q1 * gz + q3 * gx)

@@ -10,11 +10,11 @@ from ._kernels_numba import right_step, rotate, rotate_back
 
 
 @nb.njit(cache=True, error_model="numpy")
-def run(gyr, acc, mag, use_mag, dts, kp, ki, q, b, out, bias_out):
+def run(gyro, acc, mag, use_mag, dts, kp, ki, q, b, out, bias_out):
     """Mahony's explicit complementary filter with integral bias, in ENU; q and b updated in place.
 
     e = â × v̂ (+ m̂ × ŵ in 9D), with v̂ = Rᵀ z the predicted up and ŵ = Rᵀ(0, |h_xy|, h_z) the predicted field,
-    h = R m̂; b ← b - ki e dt; ω = gyr - b + kp e; q ← q ⊗ exp(ω dt/2) (exact, unlike the original first-order
+    h = R m̂; b ← b - ki e dt; ω = gyro - b + kp e; q ← q ⊗ exp(ω dt/2) (exact, unlike the original first-order
     step).  Mahony, Hamel & Pflimlin, IEEE TAC 53(5), 2008.
     """
     w = q[0]
@@ -24,7 +24,7 @@ def run(gyr, acc, mag, use_mag, dts, kp, ki, q, b, out, bias_out):
     b0 = b[0]
     b1 = b[1]
     b2 = b[2]
-    for k in range(gyr.shape[0]):
+    for k in range(gyro.shape[0]):
         ex = 0.0
         ey = 0.0
         ez = 0.0
@@ -59,9 +59,9 @@ def run(gyr, acc, mag, use_mag, dts, kp, ki, q, b, out, bias_out):
             b0 -= ki * ex * dt
             b1 -= ki * ey * dt
             b2 -= ki * ez * dt
-        gx = gyr[k, 0] - b0 + kp * ex
-        gy = gyr[k, 1] - b1 + kp * ey
-        gz = gyr[k, 2] - b2 + kp * ez
+        gx = gyro[k, 0] - b0 + kp * ex
+        gy = gyro[k, 1] - b1 + kp * ey
+        gz = gyro[k, 2] - b2 + kp * ez
         w, x, y, z = right_step(w, x, y, z, gx * dt, gy * dt, gz * dt)
         out[k, 0] = w
         out[k, 1] = x

@@ -24,18 +24,18 @@ def _coefficients(h, tau, last_h, c):
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
-def zero_phase_6d(gyr, acc, dts, q0, tau, out):
+def zero_phase_6d(gyro, acc, dts, q0, tau, out):
     """6D attitudes: the gyro frame from q0, corrected by the zero-phase low-passed accelerometer in it.
 
-    gyr: rates with bias and scale already removed; acc: NaN rows are missing samples (the filter holds); dts:
+    gyro: rates with bias and scale already removed; acc: NaN rows are missing samples (the filter holds); dts:
     the interval ending at each sample (dts[0] = 0: q0 is the attitude at the first sample).  The forward pass
     starts at the mean of the first tau seconds of accelerometer samples in I, in steady state; the backward
     pass starts at the forward pass's last output.  Writes q = q_c ⊗ q_g into out (n, 4).
     """
-    n = gyr.shape[0]
+    n = gyro.shape[0]
     ai = np.empty((n, 3))
     gw, gx, gy, gz = q0[0], q0[1], q0[2], q0[3]
-    gpx, gpy, gpz = gyr[0, 0], gyr[0, 1], gyr[0, 2]
+    gpx, gpy, gpz = gyro[0, 0], gyro[0, 1], gyro[0, 2]
     nominal = 0.0
     sx = sy = sz = 0.0
     cnt = 0.0
@@ -43,7 +43,7 @@ def zero_phase_6d(gyr, acc, dts, q0, tau, out):
     for k in range(n):
         dt = dts[k]
         # the gyro frame as the online estimator integrates it (rate interpolated across lost rows: gap_rate)
-        ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, gyr[k, 0], gyr[k, 1], gyr[k, 2], gpx, gpy, gpz)
+        ox, oy, oz, nominal, gpx, gpy, gpz = gap_rate(dt, nominal, gyro[k, 0], gyro[k, 1], gyro[k, 2], gpx, gpy, gpz)
         gw, gx, gy, gz = right_step(gw, gx, gy, gz, ox * dt, oy * dt, oz * dt)
         out[k, 0], out[k, 1], out[k, 2], out[k, 3] = gw, gx, gy, gz
         elapsed += dt

@@ -86,7 +86,7 @@ def kalman(p, x, h, y, w, clip, u):
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def run(
-    gyr,
+    gyro,
     up,
     dts,
     tau_acc,
@@ -153,15 +153,15 @@ def run(
     at_limit = FLAG_BIAS_AT_LIMIT if max(abs(b0), abs(b1), abs(b2)) > bias_limit else 0
     p00 = p01 = p10 = p11 = r = 0.0
     d00 = d01 = d10 = d11 = keep = 0.0
-    for k in range(gyr.shape[0]):
+    for k in range(gyro.shape[0]):
         dt = dts[k]
         if dt != last_dt:  # the coefficient changes only with the interval
             r = 1.0 - math.exp(-dt / REST_FILTER)
             last_dt = dt
         flag = 0
-        wx = gyr[k, 0]
-        wy = gyr[k, 1]
-        wz = gyr[k, 2]
+        wx = gyro[k, 0]
+        wy = gyro[k, 1]
+        wz = gyro[k, 2]
         ax = up[k, 0]
         ay = up[k, 1]
         az = up[k, 2]

@@ -114,6 +114,7 @@ from numbers import Real
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 from ..rotations.quaternion import multiply, rotate
 from ._base import (
     FLAG_MAG_REJECTED,
@@ -347,7 +348,7 @@ class AttitudeEstimator(Estimator):
 
     Notes
     -----
-    ``update(gyr, acc, mag=None, *, dt=None, t=None, known_acc=None)``: gyro in rad/s (finite), accelerometer
+    ``update(gyro, acc, mag=None, *, dt=None, t=None, known_acc=None)``: gyro in rad/s (finite), accelerometer
     in m/s², magnetic field in any unit; a NaN row in ``acc`` or ``mag`` means no sample of that sensor then;
     ``known_acc`` is a kinematic acceleration to subtract from the accelerometer.  Sample k's accelerometer and
     magnetometer readings are taken as those at the end of its gyro step; readings averaged over the step lag
@@ -383,12 +384,13 @@ class AttitudeEstimator(Estimator):
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
 
-    def update(self, gyr, acc, mag=None, *, dt=None, t=None, known_acc=None) -> Estimate:
+    @renamed(gyr="gyro")
+    def update(self, gyro, acc, mag=None, *, dt=None, t=None, known_acc=None) -> Estimate:
         """Process a chunk of samples; any chunking gives the same result.
 
         Parameters
         ----------
-        gyr : array_like, shape (N, 3)
+        gyro : array_like, shape (N, 3)
             Angular rate, rad/s.
         acc : array_like, shape (N, 3)
             Specific force, m/s² (NaN rows: no sample).
@@ -412,7 +414,7 @@ class AttitudeEstimator(Estimator):
             if known.shape != a.shape:
                 raise ValueError(f"known_acc must have the shape of acc {a.shape}, got {known.shape}")
             acc = a - known
-        return super().update(gyr, acc, mag, dt=dt, t=t)
+        return super().update(gyro, acc, mag, dt=dt, t=t)
 
     # ----------------------------------------------------------------------------------------------------
     @property
@@ -436,7 +438,7 @@ class AttitudeEstimator(Estimator):
         return None if self._state is None else np.sqrt(np.diag(self._state["covariance"])[:3])
 
     # ----------------------------------------------------------------------------------------------------
-    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         from . import _attitude_numba as k
 
         p = self.params
@@ -447,7 +449,7 @@ class AttitudeEstimator(Estimator):
         ka = _first_present(acc, "acc")
         # the filter starts at the first sample (in the start's averaging, then at rest: rate 0); a first sample
         # later than the first row is turned back to the sensor axes of the first row, which q is for
-        s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyr, dts, ka, acc[ka]))
+        s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyro, dts, ka, acc[ka]))
         s[k.RESTA : k.RESTA + 3] = acc[ka]
         s[k.ALAST : k.ALAST + 3] = acc[ka]
         s[k.MOLD] = -1.0
@@ -457,10 +459,10 @@ class AttitudeEstimator(Estimator):
             state[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
         return state
 
-    def _run(self, gyr, acc, mag, dts, extra_in):
+    def _run(self, gyro, acc, mag, dts, extra_in):
         from . import _attitude_numba as k
 
-        n = gyr.shape[0]
+        n = gyro.shape[0]
         st = self._state
         s = np.empty(k.SIZE)
         for name, off, size in _LAYOUT:
@@ -480,7 +482,7 @@ class AttitudeEstimator(Estimator):
         seg_val = np.empty((2, n_seg_max, 3))  # bias, sigma
         m = mag if mag is not None else np.zeros((1, 3))
         squares = np.zeros(3)
-        n_seg = k.run(gyr, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
+        n_seg = k.run(gyro, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
         for name, off, size in _LAYOUT:
             st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
         st["covariance"] = P
@@ -493,8 +495,9 @@ class AttitudeEstimator(Estimator):
         return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
 
 
+@renamed(gyr="gyro")
 def attitude(
-    gyr,
+    gyro,
     acc,
     mag=None,
     *,
@@ -509,7 +512,7 @@ def attitude(
 
     Parameters
     ----------
-    gyr : array_like, shape (N, 3)
+    gyro : array_like, shape (N, 3)
         Angular rate, rad/s.
     acc : array_like, shape (N, 3)
         Specific force, m/s² (NaN rows: no sample).
@@ -539,14 +542,14 @@ def attitude(
     >>> est.q[-1].round(12)
     array([1., 0., 0., 0.])
     """
-    return AttitudeEstimator(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t, known_acc=known_acc)
+    return AttitudeEstimator(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t, known_acc=known_acc)
 
 
-def _reverse(gyr, acc, mag, dt, t):
+def _reverse(gyro, acc, mag, dt, t):
     """Inputs for the backward pass: time reversed, rates negated, sample j covering forward interval n - j."""
-    n = gyr.shape[0]
-    g = np.zeros_like(gyr)
-    g[1:] = -gyr[:0:-1]
+    n = gyro.shape[0]
+    g = np.zeros_like(gyro)
+    g[1:] = -gyro[:0:-1]
     a = np.ascontiguousarray(acc[::-1])
     m = None if mag is None else np.ascontiguousarray(mag[::-1])
     if t is not None:
@@ -568,8 +571,9 @@ def _align_heading(reference, q, w) -> np.ndarray:
     return multiply([np.cos(offset / 2), 0.0, 0.0, np.sin(offset / 2)], q, check=False)
 
 
+@renamed(gyr="gyro")
 def attitude_offline(
-    gyr,
+    gyro,
     acc,
     mag=None,
     *,
@@ -596,7 +600,7 @@ def attitude_offline(
 
     Parameters
     ----------
-    gyr, acc, mag, dt, t, frame
+    gyro, acc, mag, dt, t, frame
         As for :func:`attitude` (the whole recording).
     params : AttitudeParams or mapping, optional
         Parameters, their online values (the factor is applied here); a mapping overrides the defaults by name.
@@ -625,7 +629,7 @@ def attitude_offline(
     p = params_of(AttitudeParams, params, "attitude")
     f = p.offline_time_factor
     po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
-    g = _v.vectors(gyr, "gyr", dtype=np.float64)
+    g = _v.vectors(gyro, "gyro", dtype=np.float64)
     # shape and dtype here (NaN rows mean no sample; the forward pass checks the values): a complex acc lost its
     # imaginary part in asarray, and a scalar mag (attitude_offline(g, a, 0.5)) gave an IndexError
     a = _v.vectors(acc, "acc", check=False, dtype=np.float64)
@@ -681,4 +685,4 @@ def attitude_offline(
     if frame != "ENU":
         q = multiply(frame_quaternion("ENU", frame), q, check=False)
     est = Estimate(q=q, frame=frame, bias=bias, flags=flags, extra={"bias_sigma": sigma})
-    return float32_if(est, gyr, acc, mag)  # float32 in, float32 out (computed in float64)
+    return float32_if(est, gyro, acc, mag)  # float32 in, float32 out (computed in float64)

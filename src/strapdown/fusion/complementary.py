@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._support.renamed import renamed
 from ._base import GRAVITY, Estimate, Estimator
 
 __all__ = ["Complementary", "ComplementaryParams", "complementary"]
@@ -73,29 +74,30 @@ class Complementary(Estimator):
     def __init__(self, params: ComplementaryParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or ComplementaryParams(), q0=q0, frame=frame)
 
-    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         return {"q": q.copy()}
 
-    def _run(self, gyr, acc, mag, dts, extra_in):
+    def _run(self, gyro, acc, mag, dts, extra_in):
         from ._complementary_numba import run
 
-        n = gyr.shape[0]
+        n = gyro.shape[0]
         out = np.empty((n, 4))
         flags = np.empty(n, dtype=np.uint8)
         m = mag if mag is not None else np.zeros((1, 3))
         p = self.params
-        run(gyr, acc, m, mag is not None, dts, p.tau_acc, p.tau_mag, GRAVITY, p.acc_gate, self._state["q"], out, flags)
+        run(gyro, acc, m, mag is not None, dts, p.tau_acc, p.tau_mag, GRAVITY, p.acc_gate, self._state["q"], out, flags)
         return Estimate(q=out, frame=self.natural_frame, flags=flags)
 
 
+@renamed(gyr="gyro")
 def complementary(
-    gyr, acc, mag=None, *, dt=None, t=None, params: ComplementaryParams | None = None, q0=None, frame: str = "ENU"
+    gyro, acc, mag=None, *, dt=None, t=None, params: ComplementaryParams | None = None, q0=None, frame: str = "ENU"
 ) -> Estimate:
     """Run the quaternion complementary filter over whole arrays (the batch form of :class:`Complementary`).
 
     Parameters
     ----------
-    gyr, acc : array_like, shape (N, 3)
+    gyro, acc : array_like, shape (N, 3)
         Angular rate (rad/s) and specific force (m/s²).
     mag : array_like, shape (N, 3), optional
         Magnetic field; 9D when given.
@@ -122,4 +124,4 @@ def complementary(
     >>> complementary(np.zeros((5, 3)), np.tile([0.0, 0.0, 9.81], (5, 1)), dt=0.01).q.shape
     (5, 4)
     """
-    return Complementary(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t)
+    return Complementary(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._support.renamed import renamed
 from ._base import Estimate, Estimator
 
 __all__ = ["Madgwick", "MadgwickParams", "madgwick"]
@@ -73,28 +74,29 @@ class Madgwick(Estimator):
     def __init__(self, params: MadgwickParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or MadgwickParams(), q0=q0, frame=frame)
 
-    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         return {"q": q.copy()}
 
-    def _run(self, gyr, acc, mag, dts, extra_in):
+    def _run(self, gyro, acc, mag, dts, extra_in):
         from ._madgwick_numba import run
 
-        n = gyr.shape[0]
+        n = gyro.shape[0]
         out = np.empty((n, 4))
         m = mag if mag is not None else np.zeros((1, 3))
         p = self.params
-        run(gyr, acc, m, mag is not None, dts, p.beta, p.variant == "reference", self._state["q"], out)
+        run(gyro, acc, m, mag is not None, dts, p.beta, p.variant == "reference", self._state["q"], out)
         return Estimate(q=out, frame=self.natural_frame)
 
 
+@renamed(gyr="gyro")
 def madgwick(
-    gyr, acc, mag=None, *, dt=None, t=None, params: MadgwickParams | None = None, q0=None, frame: str = "ENU"
+    gyro, acc, mag=None, *, dt=None, t=None, params: MadgwickParams | None = None, q0=None, frame: str = "ENU"
 ) -> Estimate:
     """Run Madgwick's filter over whole arrays (the batch form of :class:`Madgwick`).
 
     Parameters
     ----------
-    gyr, acc : array_like, shape (N, 3)
+    gyro, acc : array_like, shape (N, 3)
         Angular rate (rad/s) and specific force (m/s²).
     mag : array_like, shape (N, 3), optional
         Magnetic field; 9D when given.
@@ -122,4 +124,4 @@ def madgwick(
     >>> est.q.shape
     (10, 4)
     """
-    return Madgwick(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t)
+    return Madgwick(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)

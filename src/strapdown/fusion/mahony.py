@@ -2,7 +2,7 @@
 
 The error between the measured and predicted directions of gravity (and, in 9D, of the horizontal magnetic
 field), ``e = â × v̂ + m̂ × ŵ``, feeds back proportionally into the rate and integrally into a bias estimate:
-``b ← b - ki e dt``, ``ω = gyr - b + kp e``.  The attitude step is the exact exponential.  Computed in ENU.
+``b ← b - ki e dt``, ``ω = gyro - b + kp e``.  The attitude step is the exact exponential.  Computed in ENU.
 """
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._support.renamed import renamed
 from ._base import Estimate, Estimator
 
 __all__ = ["Mahony", "MahonyParams", "mahony"]
@@ -73,29 +74,30 @@ class Mahony(Estimator):
     def __init__(self, params: MahonyParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params or MahonyParams(), q0=q0, frame=frame)
 
-    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         return {"q": q.copy(), "bias": np.array(self.params.bias0, dtype=float)}
 
-    def _run(self, gyr, acc, mag, dts, extra_in):
+    def _run(self, gyro, acc, mag, dts, extra_in):
         from ._mahony_numba import run
 
-        n = gyr.shape[0]
+        n = gyro.shape[0]
         out = np.empty((n, 4))
         bias = np.empty((n, 3))
         m = mag if mag is not None else np.zeros((1, 3))
         p = self.params
-        run(gyr, acc, m, mag is not None, dts, p.kp, p.ki, self._state["q"], self._state["bias"], out, bias)
+        run(gyro, acc, m, mag is not None, dts, p.kp, p.ki, self._state["q"], self._state["bias"], out, bias)
         return Estimate(q=out, frame=self.natural_frame, bias=bias)
 
 
+@renamed(gyr="gyro")
 def mahony(
-    gyr, acc, mag=None, *, dt=None, t=None, params: MahonyParams | None = None, q0=None, frame: str = "ENU"
+    gyro, acc, mag=None, *, dt=None, t=None, params: MahonyParams | None = None, q0=None, frame: str = "ENU"
 ) -> Estimate:
     """Run the Mahony filter over whole arrays (the batch form of :class:`Mahony`).
 
     Parameters
     ----------
-    gyr, acc : array_like, shape (N, 3)
+    gyro, acc : array_like, shape (N, 3)
         Angular rate (rad/s) and specific force (m/s²).
     mag : array_like, shape (N, 3), optional
         Magnetic field; 9D when given.
@@ -122,4 +124,4 @@ def mahony(
     >>> mahony(np.zeros((5, 3)), np.tile([0.0, 0.0, 9.81], (5, 1)), dt=0.01).bias.shape
     (5, 3)
     """
-    return Mahony(params, q0=q0, frame=frame).update(gyr, acc, mag, dt=dt, t=t)
+    return Mahony(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)

@@ -69,6 +69,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._support import validate as _v
+from .._support.renamed import renamed
 from ..rotations.euler import from_euler
 from ..rotations.quaternion import rotate
 from ..rotations.tilt import INVERTED_TOL, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
@@ -196,7 +197,7 @@ class TiltEstimator(Estimator):
 
     Notes
     -----
-    ``update(gyr, acc=None, *, dt=None, t=None, known_acc=None, pitch_roll=None, degrees=False)`` takes either
+    ``update(gyro, acc=None, *, dt=None, t=None, known_acc=None, pitch_roll=None, degrees=False)`` takes either
     accelerometer samples, minus ``known_acc`` (kinematic acceleration in sensor axes, m/s², e.g. centripetal
     from wheel speed) when given, or inclinometer angles ``pitch_roll`` (N, 2) in the ZYX convention of
     ``frame`` (radians, or degrees with ``degrees=True``).  The :class:`~strapdown.fusion.Estimate` carries
@@ -264,14 +265,15 @@ class TiltEstimator(Estimator):
         super().__init__(params or TiltParams(), q0=q0, frame=frame)
         self._bias0 = np.zeros(3) if bias0 is None else _v.vectors(bias0, "bias0", dtype=np.float64).reshape(3)
 
+    @renamed(gyr="gyro")
     def update(
-        self, gyr, acc=None, mag=None, *, dt=None, t=None, known_acc=None, pitch_roll=None, degrees: bool = False
+        self, gyro, acc=None, mag=None, *, dt=None, t=None, known_acc=None, pitch_roll=None, degrees: bool = False
     ) -> Estimate:
         """Process a chunk of samples (see the class notes for the inputs).
 
         Parameters
         ----------
-        gyr : array_like, shape (N, 3)
+        gyro : array_like, shape (N, 3)
             Angular rate, rad/s.
         acc : array_like, shape (N, 3), optional
             Specific force, m/s² (NaN rows: no sample); or give ``pitch_roll``.
@@ -295,9 +297,9 @@ class TiltEstimator(Estimator):
             raise ValueError("TiltEstimator estimates the tilt from gravity alone: do not give mag")
         if (acc is None) == (pitch_roll is None):
             raise ValueError("give exactly one tilt sensor: acc (accelerometer) or pitch_roll (inclinometer)")
-        gyr_arr = _v.vectors(gyr, "gyr", dtype=np.float64)
+        gyr_arr = _v.vectors(gyro, "gyro", dtype=np.float64)
         if gyr_arr.ndim != 2:
-            raise ValueError(f"gyr must have shape (N, 3), got {gyr_arr.shape}")
+            raise ValueError(f"gyro must have shape (N, 3), got {gyr_arr.shape}")
         n = gyr_arr.shape[0]
         if pitch_roll is not None:
             pr = _v.finite(pitch_roll, "pitch_roll", check=False, dtype=np.float64)
@@ -319,12 +321,12 @@ class TiltEstimator(Estimator):
                     raise ValueError(f"known_acc must have the shape of acc {acc_arr.shape}, got {known.shape}")
                 acc_arr = acc_arr - known
         est = super().update(gyr_arr, acc_arr, dt=dt, t=t)
-        return float32_if(est, gyr, pitch_roll if acc is None else acc)
+        return float32_if(est, gyro, pitch_roll if acc is None else acc)
 
-    def _new_state(self, q, gyr, acc, mag, dts, extra_in):
+    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         # the first tilt-sensor sample present, turned back to the axes of the first sample (q's)
         k = _first_present(acc, "acc")
-        a0 = _back_to_first_sample(gyr, dts, k, acc[k])
+        a0 = _back_to_first_sample(gyro, dts, k, acc[k])
         a_i = rotate(q, a0)
         return {
             "q": q.copy(),  # the estimate q_c ⊗ q_g
@@ -361,10 +363,10 @@ class TiltEstimator(Estimator):
         """The current gyro scale-factor error estimate (dimensionless: the gyro reads (1 + s) ω + b)."""
         return None if self._state is None else self._state.get("scale", np.zeros(3)).copy()
 
-    def _run(self, gyr, acc, mag, dts, extra_in):
+    def _run(self, gyro, acc, mag, dts, extra_in):
         from . import _tilt_numba as k
 
-        n = gyr.shape[0]
+        n = gyro.shape[0]
         out = np.empty((n, 4))
         bias = np.empty((n, 3))
         flags = np.empty(n, dtype=np.uint8)
@@ -393,7 +395,7 @@ class TiltEstimator(Estimator):
             ]
         )
         k.run(
-            gyr,
+            gyro,
             acc,
             dts,
             p.tau_acc,
@@ -440,8 +442,9 @@ def _drift_filter(q, bias) -> np.ndarray:
     return np.array([np.zeros(14), np.concatenate([r.ravel(), np.zeros(6), r @ bias])])
 
 
+@renamed(gyr="gyro")
 def tilt(
-    gyr,
+    gyro,
     acc=None,
     *,
     dt=None,
@@ -458,7 +461,7 @@ def tilt(
 
     Parameters
     ----------
-    gyr : array_like, shape (N, 3)
+    gyro : array_like, shape (N, 3)
         Angular rate, rad/s.
     acc : array_like, shape (N, 3), optional
         Specific force, m/s² (NaN rows: no sample); or ``pitch_roll``.
@@ -493,5 +496,5 @@ def tilt(
     array([1., 0., 0., 0.])
     """
     return TiltEstimator(params, q0=q0, frame=frame, bias0=bias0).update(
-        gyr, acc, dt=dt, t=t, known_acc=known_acc, pitch_roll=pitch_roll, degrees=degrees
+        gyro, acc, dt=dt, t=t, known_acc=known_acc, pitch_roll=pitch_roll, degrees=degrees
     )

@@ -49,95 +49,30 @@ the rates negated, so every quaternion method serves both frames with the same c
 
 from __future__ import annotations
 
-import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from .._support import threads as _threads
 from .._support import validate as _v
+from ._model_steps import baseline_state, rate_model, run_baseline, run_coning, run_rk4
+from ._state import IntegratorState, checked_state
+from .methods import BASELINES, CONING, MAX_STEP_ANGLE, METHODS, NORMALIZE, STEP_KINDS, SingularityError, coning_table
 
 __all__ = ["METHODS", "AttitudeIntegrator", "SingularityError", "integrate"]
 
 
-class SingularityError(RuntimeError):
-    """A baseline method (Euler angles, Euler parameters, rotation vector) reached its singular set."""
 
 
-_STEP_KINDS = {"exact": 0, "first-order": 1, "second-order": 2, "cayley": 3}
-_BASELINES = {"euler-angles": 0, "dcm": 1, "euler-parameters": 2, "rotation-vector": 3}
-_NORMALIZE = {"none": 0, "exact": 1, "series": 2}
-
-# Coning-optimised sets (math.md §6.2; PSINS glv.cs): φ = ΣΔθ + (Σ_{i<N} k_i Δθ_i) × Δθ_N.
-_CONING_OPTIMISED = {
-    2: [2 / 3],
-    3: [9 / 20, 27 / 20],
-    4: [54 / 105, 92 / 105, 214 / 105],
-    5: [250 / 504, 525 / 504, 650 / 504, 1375 / 504],
-    6: [2315 / 4620, 4558 / 4620, 7296 / 4620, 7834 / 4620, 15797 / 4620],
-}
 
 
-def _coning_table(method: str) -> tuple[np.ndarray, float]:
-    """(K, c_prev) with φ = ΣΔθ_i + Σ_{i<j} K[i, j] Δθ_i × Δθ_j + c_prev Δθ_prev × Δθ_1."""
-    if method == "coning1-prev":
-        return np.zeros((1, 1)), 1 / 12
-    if method == "coning3-poly":  # (33/80) Δθ1×Δθ3 + (57/80) Δθ2×(Δθ3 - Δθ1)
-        k = np.zeros((3, 3))
-        k[0, 2] = 33 / 80
-        k[1, 2] = 57 / 80
-        k[0, 1] = 57 / 80
-        return k, 0.0
-    if method == "coning4-poly":
-        k = np.zeros((4, 4))
-        k[0, 1] = k[2, 3] = 736 / 945
-        k[0, 2] = k[1, 3] = 334 / 945
-        k[0, 3] = 526 / 945
-        k[1, 2] = 654 / 945
-        return k, 0.0
-    n = int(method[len("coning") :])
-    k = np.zeros((n, n))
-    k[: n - 1, n - 1] = _CONING_OPTIMISED[n]
-    return k, 0.0
 
 
-# The largest rotation of one step, rad: beyond it its angle is not known to 1 mrad in float64 (1e-3 / eps, the
-# limit quaternion.power uses), and the arithmetic of several methods overflows soon after.
-MAX_STEP_ANGLE = 2e-3 / np.finfo(np.float64).eps
 
-_CONING = ["coning1-prev", "coning2", "coning3", "coning4", "coning5", "coning6", "coning3-poly", "coning4-poly"]
-METHODS = (*_STEP_KINDS, "rk4", *_CONING, *_BASELINES)
+
 
 
 @dataclass
-class IntegratorState:
-    """Everything an :class:`AttitudeIntegrator` carries between updates (read and set with ``state``).
-
-    Attributes
-    ----------
-    q : numpy.ndarray, shape (B, 4)
-        The attitude after the last emitted step (internal frame: conjugated for reference-frame rates).
-    steps_in, steps_out : int
-        Samples received and attitudes emitted so far.
-    t_end : float
-        End of the last received step, relative to ``t0`` (s); NaN for increments without times.
-    counter : int
-        Steps since the last renormalisation.
-    extra : dict
-        Method-specific arrays (coning group sums, baseline states, the sample buffer of the cubic model).
-    """
-
-    q: np.ndarray
-    steps_in: int = 0
-    steps_out: int = 0
-    t_end: float = 0.0
-    counter: int = 0
-    extra: dict = field(default_factory=dict)
-
-    def copy(self) -> IntegratorState:
-        """A deep copy (arrays included)."""
-        extra = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self.extra.items()}
-        return IntegratorState(self.q.copy(), self.steps_in, self.steps_out, self.t_end, self.counter, extra)
 
 
 class AttitudeIntegrator:
@@ -221,12 +156,12 @@ class AttitudeIntegrator:
             method = "coning2" if input == "increment" else "exact"
         self.method = _v.choice(method, "method", METHODS)
         self.rate_frame = _v.choice(rate_frame, "rate_frame", ("body", "reference"))
-        if self.rate_frame == "reference" and method in _BASELINES:
+        if self.rate_frame == "reference" and method in BASELINES:
             raise ValueError(
                 f"method {method!r} is one of Gajda's baselines, written for body rates (§1); "
                 "use a quaternion method for rate_frame='reference'"
             )
-        self.normalize = _v.choice(normalize, "normalize", tuple(_NORMALIZE))
+        self.normalize = _v.choice(normalize, "normalize", tuple(NORMALIZE))
         if not (isinstance(normalize_every, int | np.integer) and normalize_every >= 1):
             raise ValueError(f"normalize_every must be a positive integer, got {normalize_every!r}")
         self.normalize_every = int(normalize_every)
@@ -251,7 +186,7 @@ class AttitudeIntegrator:
         self._dt_anchor: tuple[int, float, float] | None = None  # (step, t_rel, dt) for scalar-dt timing
         self._finished = False
         self.singular_steps: list[tuple[int, int]] = []
-        self._cubic = input == "rate" and (method == "rk4" or method in _CONING or method in _BASELINES)
+        self._cubic = input == "rate" and (method == "rk4" or method in CONING or method in BASELINES)
 
     # ----------------------------------------------------------------------------------------------------
     # state
@@ -264,90 +199,10 @@ class AttitudeIntegrator:
     def state(self, value: IntegratorState) -> None:
         if not isinstance(value, IntegratorState):
             raise ValueError("state must be an IntegratorState taken from an integrator of the same method")
-        self._state = self._checked_state(value)
+        self._state = checked_state(self, value)
         self._dt_anchor = self._state.extra.get("dt_anchor")
         self._finished = False
 
-    def _checked_state(self, value: IntegratorState) -> IntegratorState:
-        """A validated copy of ``value``: ValueError naming the entry unless it fits this integrator.
-
-        The kernels index the state's arrays and counters without bounds checks (a coning position of -5 writes
-        outside the group buffer), so everything is compared with a fresh state of the same layout first.
-        """
-        q = _v.quaternions(value.q, "state.q", dtype=np.float64)
-        if q.ndim != 2:
-            raise ValueError(f"state.q must have shape (B, 4), got {q.shape}")
-        ex = value.extra if isinstance(value.extra, dict) else {}
-        single, dtype = ex.get("single"), ex.get("dtype")
-        if not isinstance(single, bool | np.bool_) or (single and q.shape[0] != 1):
-            raise ValueError(f"state.extra['single'] must be a bool (True only for one body), got {single!r}")
-        if not (isinstance(dtype, np.dtype | type) and np.dtype(dtype) in (np.float32, np.float64)):
-            raise ValueError(f"state.extra['dtype'] must be float32 or float64, got {dtype!r}")
-        n_bodies = q.shape[0]
-        fresh = self._fresh_state(n_bodies, bool(single), dtype, q0=q)
-        want, have = set(fresh.extra) | {"dt_anchor"}, set(ex) | {"dt_anchor"}
-        if want != have:
-            raise ValueError(
-                f"state.extra has entries {sorted(have)}, but a {self.method!r} integrator with input={self.input!r} "
-                f"needs {sorted(want)}; take the state from an integrator of the same method"
-            )
-        counts = {}
-        for name in ("steps_in", "steps_out", "counter"):
-            counts[name] = _count(getattr(value, name), f"state.{name}")
-        steps_in, steps_out = counts["steps_in"], counts["steps_out"]
-        if steps_out > steps_in or (not self._cubic and steps_out != steps_in):
-            raise ValueError(f"state.steps_out ({steps_out}) does not fit state.steps_in ({steps_in})")
-        t_end = value.t_end
-        if not isinstance(t_end, float | int | np.floating | np.integer) or not (
-            np.isfinite(t_end) or (np.isnan(t_end) and self.input == "increment")
-        ):
-            raise ValueError(f"state.t_end must be a finite time in seconds, got {t_end!r}")
-        out = IntegratorState(q.copy(), steps_in, steps_out, float(t_end), counts["counter"], {})
-        if self._cubic:
-            # a step's interpolation window starts at most one sample before it, or at N - 4 at the end
-            latest = max(min(steps_out - 1, steps_in - 4), 0)
-            first = _count(ex["buf_first"], "state.extra['buf_first']")
-            if first > latest:
-                raise ValueError(f"state.extra['buf_first'] must be at most {latest} here, got {first}")
-        for key, ref in fresh.extra.items():
-            name = f"state.extra[{key!r}]"
-            v = ex[key]
-            if isinstance(ref, np.ndarray):
-                arr = np.asarray(v) if isinstance(v, np.ndarray | list | tuple) else None
-                if arr is None or arr.dtype.kind != ref.dtype.kind:
-                    raise ValueError(f"{name} must be a {ref.dtype} array, got {type(v).__name__}")
-                shape = list(ref.shape)
-                if key in ("buf_s", "buf_t"):  # the sample buffer: its length is steps_in - buf_first
-                    shape[1 if key == "buf_s" else 0] = steps_in - ex["buf_first"]
-                if list(arr.shape) != shape:
-                    raise ValueError(f"{name} must have shape {tuple(shape)}, got {arr.shape}")
-                # the baselines' own states may hold infinities by design (a rotation vector at 180 degrees);
-                # their distance to the singular set reports them
-                if key not in ("base", "last_q") and arr.dtype.kind == "f":
-                    _v.check_finite(arr, name)
-                out.extra[key] = arr.astype(ref.dtype, copy=True)
-            elif key in ("pos", "buf_first"):
-                out.extra[key] = _count(v, name)
-            else:
-                out.extra[key] = v
-        if "pos" in out.extra and out.extra["pos"] != steps_out % fresh.extra["group"].shape[1]:
-            size = fresh.extra["group"].shape[1]
-            raise ValueError(
-                f"state.extra['pos'] must be state.steps_out mod {size} = {steps_out % size}, got {out.extra['pos']}"
-            )
-        anchor = ex.get("dt_anchor")
-        if anchor is not None:
-            ok = isinstance(anchor, tuple) and len(anchor) == 3
-            if ok:
-                try:
-                    ok = _count(anchor[0], "") <= steps_in and np.isfinite(anchor[1]) and anchor[2] > 0
-                    ok = ok and np.isfinite(anchor[2])
-                except (TypeError, ValueError):
-                    ok = False
-            if not ok:
-                raise ValueError(f"state.extra['dt_anchor'] must be None or (step, time, dt), got {anchor!r}")
-            out.extra["dt_anchor"] = (int(anchor[0]), float(anchor[1]), float(anchor[2]))
-        return out
 
     @property
     def attitude(self) -> np.ndarray | None:
@@ -380,15 +235,15 @@ class AttitudeIntegrator:
         st.extra["last_out"] = q.copy()
         st.extra["q_start"] = q.copy()
         m = self.method
-        if m in _CONING:
-            k, _c_prev = _coning_table(m)
+        if m in CONING:
+            k, _c_prev = coning_table(m)
             st.extra["alpha"] = np.zeros((n_bodies, 3))
             st.extra["beta"] = np.zeros((n_bodies, 3))
             st.extra["prev"] = np.zeros((n_bodies, 3))
             st.extra["group"] = np.zeros((n_bodies, k.shape[0], 3))
             st.extra["pos"] = 0
-        elif m in _BASELINES:
-            st.extra["base"] = self._baseline_state(q)
+        elif m in BASELINES:
+            st.extra["base"] = baseline_state(self, q)
             st.extra["last_q"] = q.copy()
             st.extra["failed"] = np.zeros(n_bodies, dtype=bool)
         if self._cubic:
@@ -397,26 +252,6 @@ class AttitudeIntegrator:
             st.extra["buf_first"] = 0  # global index of the first buffered sample
         return st
 
-    def _baseline_state(self, q: np.ndarray) -> np.ndarray:
-        from ..rotations.euler import as_euler
-        from ..rotations.matrix import as_matrix
-        from ..rotations.rotvec import as_axis_angle
-
-        state = np.zeros((q.shape[0], 9))
-        m = self.method
-        if m == "euler-angles":
-            state[:, :3] = as_euler(q, "ZYX")
-        elif m == "dcm":
-            state[:, :9] = as_matrix(q).reshape(-1, 9)
-        elif m == "euler-parameters":
-            axis, angle = as_axis_angle(q)
-            state[:, :3] = axis
-            state[:, 3] = angle
-        else:
-            w = q[:, 0]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                state[:, :3] = np.where(w[:, None] != 0, 2 * q[:, 1:] / w[:, None], np.inf)
-        return state
 
     def _times(self, n: int, dt, t) -> tuple[np.ndarray, np.ndarray | None, float]:
         """Step durations, step end times and the end of the chunk's last step.
@@ -516,7 +351,7 @@ class AttitudeIntegrator:
         if arr.ndim not in (2, 3) or arr.shape[-1] != 3:
             raise ValueError(f"gyro must have shape (n, 3) or (B, n, 3), got shape {arr.shape}")
         single = arr.ndim == 2
-        if self.method not in _STEP_KINDS:
+        if self.method not in STEP_KINDS:
             _v.check_finite(arr, "gyro")  # the step methods check their last attitude instead (_process)
         g = arr[None] if single else arr
         if self._state is None:
@@ -537,7 +372,7 @@ class AttitudeIntegrator:
         h, ends, last = self._times(n, dt, t)
         if self.input == "increment":
             h = np.ones(1)  # an increment is the step's rotation vector whatever the step lasted
-        if self.method in _STEP_KINDS:
+        if self.method in STEP_KINDS:
             saved = st.copy()
             raw = self._run_step_kind(g, h, None if out is None else out[:, :n])
             # A NaN or infinite sample poisons every later attitude of the product chain (and of the scan's
@@ -615,19 +450,19 @@ class AttitudeIntegrator:
         return raw[0] if st.extra["single"] else raw
 
     def _run_model(self, g, h, ends, final) -> np.ndarray:
-        w0, wm, w1, inc, hs = self._rate_model(g, h, ends, final)
+        w0, wm, w1, inc, hs = rate_model(self, g, h, ends, final)
         if self.method == "rk4":
-            return self._run_rk4(w0, wm, w1, hs)
-        if self.method in _CONING:
-            return self._run_coning(inc)
-        return self._run_baseline(w0, wm, w1, hs)
+            return run_rk4(self, w0, wm, w1, hs)
+        if self.method in CONING:
+            return run_coning(self, inc)
+        return run_baseline(self, w0, wm, w1, hs)
 
     def _run_step_kind(self, g, h, out=None) -> np.ndarray:
         from . import _integrate_numba as k
 
         st = self._state
-        kind = _STEP_KINDS[self.method]
-        norm = _NORMALIZE[self.normalize]
+        kind = STEP_KINDS[self.method]
+        norm = NORMALIZE[self.normalize]
         n_bodies, n, _ = g.shape
         if out is None:
             out = np.empty((n_bodies, n, 4))
@@ -662,203 +497,13 @@ class AttitudeIntegrator:
             st.counter = k.sequential(g, h, hstep, self.scale, kind, norm, self.normalize_every, st.counter, st.q, out)
         return out
 
-    def _rate_model(self, g, h, ends, final):
-        """Per-step rates (start, middle, end), increments and durations of the steps that can be completed."""
-        st = self._state
-        n_bodies, n, _ = g.shape
-        if not self._cubic:
-            # averages and increments: the rate is constant over the step; increments use unit durations
-            hs = np.ones(n) if self.input == "increment" else np.broadcast_to(h, (n,)).copy()
-            omega = g * self.scale
-            inc = omega * hs[None, :, None]
-            return omega, omega, omega, inc, hs
-        from ._ratemodel_numba import cubic_steps
-
-        # buffer: samples from the first one a future step may still need, with their instants (= step starts)
-        starts = np.concatenate([[st.t_end if st.steps_in else 0.0], ends[:-1]]) if n else np.zeros(0)
-        buf_s = np.concatenate([st.extra["buf_s"], g * self.scale], axis=1)
-        buf_t = np.concatenate([st.extra["buf_t"], starts])
-        first = st.extra["buf_first"]
-        total = st.steps_in + n  # samples received, including this chunk
-        end_time = ends[-1] if n else st.t_end  # end of the last received step
-        k_next = st.steps_out
-        span = 2 if self.method == "rk4" else 1
-        if not final:
-            # a step may run once its four nodes (k-1 .. k+2, or 0 .. 3 at the start) and its end sample arrived
-            k_last = min(total - 1 - span, total - 3) if total >= 4 else k_next - 1
-            ks = np.arange(k_next, k_last + 1, span, dtype=np.int64)
-            spans = np.full(ks.shape, span, dtype=np.int64)
-            j0s = np.maximum(ks - 1, 0)
-            npts = np.full(ks.shape, 4, dtype=np.int64)
-        else:
-            p = min(4, total)
-            ks = np.arange(k_next, total, span, dtype=np.int64)
-            spans = np.minimum(span, total - ks)
-            j0s = np.clip(ks - 1, 0, total - p)
-            npts = np.full(ks.shape, p, dtype=np.int64)
-        k = int(ks[-1] + spans[-1]) if ks.size else k_next
-        m = ks.size
-        w0 = np.empty((n_bodies, m, 3))
-        wm = np.empty((n_bodies, m, 3))
-        w1 = np.empty((n_bodies, m, 3))
-        wq = np.empty((n_bodies, m, 3))
-        inc = np.empty((n_bodies, m, 3))
-        hs = np.empty(m)
-        tm = np.empty(m)
-        if m:
-            if j0s.min() < first:  # the buffer must hold every node; a miss would read the wrong samples
-                raise AssertionError(f"rate-model buffer starts at {first}, a window at {j0s.min()}")
-            t_rel = np.concatenate([buf_t, [end_time]])
-            cubic_steps(
-                np.ascontiguousarray(buf_s),
-                t_rel,
-                first,
-                ks,
-                spans,
-                j0s,
-                npts,
-                w0,
-                wm,
-                w1,
-                wq,
-                inc,
-                hs,
-                tm,
-            )
-        # keep what later steps may need: their windows start at k - 1, or at N - 4 >= total - 4 at the end
-        keep_from = max(min(k - 1, total - 4), 0)
-        drop = keep_from - first
-        st.extra["buf_s"] = buf_s[:, drop:].copy()
-        st.extra["buf_t"] = buf_t[drop:].copy()
-        st.extra["buf_first"] = keep_from
-        self._spans = spans
-        self._tm = tm
-        self._wq = wq
-        # the rate at the sample inside a double step is that sample (for spans of 1 it is not used)
-        inner = np.minimum(ks + 1 - first, buf_s.shape[1] - 1)
-        self._wi = np.ascontiguousarray(buf_s[:, inner])
-        return w0, wm, w1, inc, hs
-
-    def _run_rk4(self, w0, wm, w1, hs) -> np.ndarray:
-        from ._integrate_numba import rk4
-
-        st = self._state
-        m = w0.shape[1]
-        spans = self._spans if self._cubic else np.ones(m, dtype=np.int64)
-        tm = self._tm if self._cubic else np.zeros(m)
-        wq = self._wq if self._cubic else w0
-        wi = self._wi if self._cubic else w0
-        out = np.empty((w0.shape[0], int(spans.sum()), 4))
-        st.counter = rk4(
-            w0,
-            wm,
-            w1,
-            wq,
-            wi,
-            hs,
-            spans,
-            tm,
-            _NORMALIZE[self.normalize],
-            self.normalize_every,
-            st.counter,
-            st.q,
-            out,
-        )
-        return out
-
-    def _run_coning(self, inc) -> np.ndarray:
-        from ._integrate_numba import coning
-
-        st = self._state
-        coef, c_prev = _coning_table(self.method)
-        out = np.empty((*inc.shape[:2], 4))
-        ex = st.extra
-        ex["pos"], st.counter = coning(
-            np.ascontiguousarray(inc),
-            coef,
-            c_prev,
-            _NORMALIZE[self.normalize],
-            self.normalize_every,
-            st.counter,
-            ex["pos"],
-            st.q,
-            ex["alpha"],
-            ex["beta"],
-            ex["prev"],
-            ex["group"],
-            out,
-        )
-        return out
-
-    def _run_baseline(self, w0, wm, w1, hs) -> np.ndarray:
-        from ._baselines_numba import SCHEME_EULER, SCHEME_RK4, baseline
-
-        st = self._state
-        ex = st.extra
-        n_bodies, m = w0.shape[:2]
-        out = np.empty((n_bodies, m, 4))
-        dist = np.empty((n_bodies, m))
-        scheme = SCHEME_EULER if self.scheme == "euler" else SCHEME_RK4
-        with np.errstate(all="ignore"):
-            baseline(
-                _BASELINES[self.method],
-                scheme,
-                self.orthonormalize,
-                w0,
-                wm,
-                w1,
-                hs,
-                ex["base"],
-                ex["last_q"],
-                out,
-                dist,
-            )
-        first_step = st.steps_out
-        flagged = ~(dist >= self.singular_tol)
-        failed = ex["failed"]
-        if flagged.any() or failed.any():
-            bodies, steps = np.nonzero(flagged)
-            self.singular_steps.extend((int(b), int(s) + first_step) for b, s in zip(bodies, steps, strict=True))
-            if flagged.any() and self.on_singular == "raise":
-                b, s = int(bodies[0]), int(steps[0])
-                raise SingularityError(
-                    f"{self.method}: step {first_step + s} (body {b}) is {max(dist[b, s], 0.0):.3g} rad from the "
-                    f"method's singular set ({_SINGULAR[self.method]}), closer than singular_tol="
-                    f"{self.singular_tol:.3g} rad; its results would be unreliable.  Use a quaternion method, or "
-                    "on_singular='nan' / 'warn'"
-                )
-            if self.on_singular == "nan":
-                for b in range(n_bodies):
-                    hit = np.flatnonzero(flagged[b])
-                    if failed[b]:
-                        out[b] = np.nan
-                    elif hit.size:
-                        out[b, hit[0] :] = np.nan
-                        failed[b] = True
-            elif flagged.any():
-                warnings.warn(
-                    f"{self.method}: {int(flagged.sum())} step(s) within {self.singular_tol:.3g} rad of the singular "
-                    f"set ({_SINGULAR[self.method]}), first at step {first_step + int(steps[0])}; results there are "
-                    "unreliable",
-                    RuntimeWarning,
-                    stacklevel=4,
-                )
-        return out
 
 
-def _count(value, name: str) -> int:
-    """A non-negative integer counter of a restored state, or ValueError naming it."""
-    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer) or value < 0:
-        raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
-    return int(value)
 
 
-_SINGULAR = {
-    "euler-angles": "pitch ±90°, Gajda 1.6",
-    "euler-parameters": "rotation angle 0 mod 360°, Gajda 1.3",
-    "rotation-vector": "rotation angle 180°, Gajda 1.4",
-    "dcm": "none",
-}
+
+
+
 
 
 def integrate(

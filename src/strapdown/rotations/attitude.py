@@ -411,11 +411,15 @@ class Attitude:
 
         return as_axis_angle(self._q, degrees, check=False)
 
-    def to_scipy(self):
+    def as_scipy(self):
         """A ``scipy.spatial.transform.Rotation`` of the same rotations (frames are not kept)."""
-        from .interop import to_scipy
+        from .interop import as_scipy
 
-        return to_scipy(self._q, check=False)
+        return as_scipy(self._q, check=False)
+
+    def to_scipy(self):
+        """:meth:`as_scipy` by its name of release 0.1."""
+        return self.as_scipy()
 
     # ------------------------------------------------------------------------------------------------ algebra
     def inv(self) -> Attitude:

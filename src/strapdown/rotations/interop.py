@@ -10,7 +10,7 @@ import numpy as np
 
 from .._support import validate as _v
 
-__all__ = ["from_scipy", "to_scipy"]
+__all__ = ["as_scipy", "from_scipy", "to_scipy"]
 
 
 def _rotation_class():
@@ -18,12 +18,12 @@ def _rotation_class():
         from scipy.spatial.transform import Rotation
     except ImportError:  # pragma: no cover - exercised only without scipy
         raise ImportError(
-            "to_scipy/from_scipy need scipy: pip install 'strapdown[test]' or pip install scipy"
+            "as_scipy/from_scipy need scipy: pip install 'strapdown[test]' or pip install scipy"
         ) from None
     return Rotation
 
 
-def to_scipy(q, *, check: bool = True):
+def as_scipy(q, *, check: bool = True):
     """A scipy ``Rotation`` holding the attitudes ``q`` (body to reference, so ``rot.apply(v_body)`` = v_ref).
 
     Parameters
@@ -40,12 +40,16 @@ def to_scipy(q, *, check: bool = True):
 
     Examples
     --------
-    >>> from strapdown import to_scipy
-    >>> to_scipy([0.0, 0.0, 0.0, 1.0]).as_rotvec().round(12)    # 180 deg about z
+    >>> from strapdown import as_scipy
+    >>> as_scipy([0.0, 0.0, 0.0, 1.0]).as_rotvec().round(12)    # 180 deg about z
     array([0.        , 0.        , 3.14159265])
     """
     q = _v.quaternions(q, "q", check=check)
     return _rotation_class().from_quat(q, scalar_first=True)
+
+
+#: :func:`as_scipy` by its name of release 0.1 (the library's pairs are ``from_*`` / ``as_*``).
+to_scipy = as_scipy
 
 
 def from_scipy(rot) -> np.ndarray:

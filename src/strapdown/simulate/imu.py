@@ -7,8 +7,8 @@ Conventions
   :meth:`TriadModel.magnetometer` take datasheet units and convert; the dataclasses store SI only.
 * Timing is that of :func:`strapdown.integrate`: N samples make N steps, step k runs from ``t[k]`` to
   ``t[k+1]`` (duration ``h[k]``) and the record starts at ``t[0]``.  A sample (``kind``) is the true value at the
-  start of its step (``"instant"``, what ``integrate`` calls ``input="rate"``), its mean over the step
-  (``"average"``) or its integral over the step (``"increment"``).
+  start of its step (``"rate"``, as for ``integrate``; release 0.1 said ``"instant"``, still taken), its mean
+  over the step (``"average"``) or its integral over the step (``"increment"``).
 * :func:`corrupt` applies, in this order::
 
       reading = quantise(saturate(S (I + diag(s) + M) truth + b(t) + noise))
@@ -34,7 +34,7 @@ Simulating a sensor
 >>> t_nominal = np.arange(101) * 0.01                             # 100 steps at 100 Hz
 >>> t_actual, t_recorded, keep = apply_clock(imu.clock, t_nominal, rng)
 >>> true_rate = np.zeros((100, 3))                                # truth evaluated at t_actual[:-1]
->>> gyro = corrupt(imu.gyro, true_rate, np.diff(t_actual), "instant", rng)
+>>> gyro = corrupt(imu.gyro, true_rate, np.diff(t_actual), "rate", rng)
 >>> gyro, t = gyro[keep], t_recorded[np.append(keep, True)]      # what the logger keeps
 >>> gyro.shape, t.shape
 ((100, 3), (101,))
@@ -51,7 +51,7 @@ from .._support import validate as _v
 __all__ = ["KINDS", "ClockModel", "ImuModel", "TriadModel", "apply_clock", "corrupt"]
 
 #: What a sample is: the value at the start of its step, the mean over the step, or the integral over it.
-KINDS = ("instant", "average", "increment")
+KINDS = ("rate", "average", "increment")
 
 G = 9.80665  # standard gravity (m/s²), the "g" of accelerometer datasheets
 
@@ -436,8 +436,8 @@ class ImuModel:
 
     Parameters
     ----------
-    gyro, accel, mag : TriadModel
-        Error models of the three triads.
+    gyro, acc, mag : TriadModel
+        Error models of the three triads (``accel``, release 0.1's name of ``acc``, still reads it).
     clock : ClockModel
         Timing errors shared by the triads.
 
@@ -445,20 +445,25 @@ class ImuModel:
     --------
     >>> from strapdown.simulate.imu import ImuModel, TriadModel
     >>> imu = ImuModel(gyro=TriadModel.gyro(arw_deg_sqrt_h=0.2))
-    >>> imu.accel == TriadModel()
+    >>> imu.acc == TriadModel()
     True
     """
 
     gyro: TriadModel = field(default_factory=TriadModel)
-    accel: TriadModel = field(default_factory=TriadModel)
+    acc: TriadModel = field(default_factory=TriadModel)
     mag: TriadModel = field(default_factory=TriadModel)
     clock: ClockModel = field(default_factory=ClockModel)
 
     def __post_init__(self):
-        for name, kind in (("gyro", TriadModel), ("accel", TriadModel), ("mag", TriadModel), ("clock", ClockModel)):
+        for name, kind in (("gyro", TriadModel), ("acc", TriadModel), ("mag", TriadModel), ("clock", ClockModel)):
             value = getattr(self, name)
             if not isinstance(value, kind):
                 raise ValueError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+
+    @property
+    def accel(self) -> TriadModel:
+        """``acc`` by its name of release 0.1."""
+        return self.acc
 
     @classmethod
     def ideal(cls) -> ImuModel:
@@ -508,7 +513,7 @@ class ImuModel:
             resolution_deg_s=1 / 16.4,
             range_deg_s=2000,
         )
-        accel = TriadModel.accelerometer(
+        acc = TriadModel.accelerometer(
             bias_mg=[20, -15, 10],
             rate_random_walk_mg_sqrt_s=0.03,
             noise_density_ug_sqrt_hz=150,
@@ -524,7 +529,7 @@ class ImuModel:
             resolution_uT=0.3,
             range_uT=1300,
         )
-        return cls(gyro=gyro, accel=accel, mag=mag, clock=ClockModel(jitter=20e-6))
+        return cls(gyro=gyro, acc=acc, mag=mag, clock=ClockModel(jitter=20e-6))
 
     @classmethod
     def tactical(cls) -> ImuModel:
@@ -557,7 +562,7 @@ class ImuModel:
             misalignment_deg=0.01,
             range_deg_s=1000,
         )
-        accel = TriadModel.accelerometer(
+        acc = TriadModel.accelerometer(
             bias_mg=[1.0, -0.8, 0.6],
             rate_random_walk_mg_sqrt_s=0.05 / wander,
             vrw_m_s_sqrt_h=0.03,
@@ -571,7 +576,7 @@ class ImuModel:
             resolution_uT=0.01,
             range_uT=200,
         )
-        return cls(gyro=gyro, accel=accel, mag=mag, clock=ClockModel(jitter=1e-6))
+        return cls(gyro=gyro, acc=acc, mag=mag, clock=ClockModel(jitter=1e-6))
 
 
 def _steps(h, n: int, name: str = "h") -> np.ndarray:
@@ -601,12 +606,12 @@ def corrupt(model: TriadModel, truth, h, kind: str, rng: np.random.Generator) ->
     model : TriadModel
         The sensor's errors.
     truth : array_like, shape (N, 3)
-        True values in the sensor frame: rates at the start of each step (``"instant"``), means over each step
+        True values in the sensor frame: rates at the start of each step (``"rate"``), means over each step
         (``"average"``) or integrals over each step (``"increment"``).
     h : float or array_like, shape (N,)
         Step durations (s); the bias walk starts at the start of step 0.
-    kind : {"instant", "average", "increment"}
-        What a sample is (module notes).
+    kind : {"rate", "average", "increment"}
+        What a sample is (module notes); ``"instant"`` is the name of release 0.1 for ``"rate"``.
     rng : numpy.random.Generator
         Source of every random number; the result is a function of its state.
 
@@ -636,7 +641,7 @@ def corrupt(model: TriadModel, truth, h, kind: str, rng: np.random.Generator) ->
     >>> from strapdown.simulate.imu import TriadModel, corrupt
     >>> model = TriadModel(bias=[0.1, 0.0, 0.0], scale_factor=[0.0, 0.5, 0.0], resolution=0.25)
     >>> truth = np.array([[1.0, 1.0, 1.0], [2.0, -2.0, 0.3]])
-    >>> corrupt(model, truth, 0.01, "instant", np.random.default_rng(1))
+    >>> corrupt(model, truth, 0.01, "rate", np.random.default_rng(1))
     array([[ 1.  ,  1.5 ,  1.  ],
            [ 2.  , -3.  ,  0.25]])
     >>> corrupt(TriadModel(bias=[0.1, 0.0, 0.0]), truth, 0.5, "increment", np.random.default_rng(1))
@@ -651,7 +656,7 @@ def corrupt(model: TriadModel, truth, h, kind: str, rng: np.random.Generator) ->
     _v.check_finite(x, "truth")
     n = x.shape[0]
     h = _steps(h, n)
-    _v.choice(kind, "kind", KINDS)
+    kind = "rate" if kind == "instant" else _v.choice(kind, "kind", KINDS)
     rng = _generator(rng)
     increment = kind == "increment"
 
@@ -662,7 +667,7 @@ def corrupt(model: TriadModel, truth, h, kind: str, rng: np.random.Generator) ->
         xi = rng.standard_normal((n, 3))
         walk = np.zeros((n + 1, 3))
         np.cumsum(k * np.sqrt(h)[:, None] * xi, axis=0, out=walk[1:])
-        if kind == "instant":
+        if kind == "rate":
             bias = bias + walk[:-1]
         else:
             bridge = k * np.sqrt(h / 12)[:, None] * rng.standard_normal((n, 3))

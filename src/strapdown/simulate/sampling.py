@@ -38,7 +38,7 @@ MAX_SAMPLES = 50_000_000
 
 __all__ = ["ImuData", "MagneticDisturbance", "MagneticField", "sample"]
 
-_KIND = {"rate": "instant", "average": "average", "increment": "increment", "rotvec": "increment"}
+_KIND = {"rate": "rate", "average": "average", "increment": "increment", "rotvec": "increment"}  # gyro= -> kind
 _INPUT = {"rate": "rate", "average": "average", "increment": "increment", "rotvec": "increment"}
 
 
@@ -238,7 +238,7 @@ def sample(
     if n < 1:
         raise ValueError(f"duration {span:g} s holds no sample at {rate_hz:g} Hz")
     t_nominal = np.arange(n + 1) / rate_hz
-    streams = np.random.default_rng(seed).spawn(4)  # independent streams: clock, gyro, accel, mag
+    streams = np.random.default_rng(seed).spawn(4)  # independent streams: clock, gyro, acc, mag
     t_actual, t_recorded, keep = apply_clock(imu.clock, t_nominal, streams[0])
     h = np.diff(t_actual)
     starts = t_actual[:-1]
@@ -266,8 +266,8 @@ def sample(
     to_body = frame_matrix("FRD", body)
     kind = _KIND[gyro]
     gyro_out = corrupt(imu.gyro, w @ to_body.T, h, kind, streams[1])
-    acc_out = corrupt(imu.accel, f @ to_body.T, h, kind, streams[2])
-    mag_out = corrupt(imu.mag, m @ to_body.T, h, "instant", streams[3])
+    acc_out = corrupt(imu.acc, f @ to_body.T, h, kind, streams[2])
+    mag_out = corrupt(imu.mag, m @ to_body.T, h, "rate", streams[3])
 
     # a dropped sample k takes its start boundary with it: the previous sample's step then runs on
     bounds = np.concatenate([keep, [True]])

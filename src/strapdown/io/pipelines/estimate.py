@@ -67,7 +67,7 @@ class EstimateOptions(FileOptions):
     q0 : array_like, shape (4,), optional
         Initial attitude in ``frame``; by default from the first sample.
     calibration : mapping of str to strapdown.calibrate.Calibration, optional
-        Calibrations by sensor (``"gyroscope"``, ``"accelerometer"``, ``"magnetometer"``, as
+        Calibrations by sensor (``"gyro"``, ``"acc"``, ``"mag"``, as
         :func:`strapdown.calibrate.load` returns them), applied to the readings in their own axes before
         anything else.
     declination : float, optional
@@ -266,7 +266,7 @@ def check_axes(cal: dict, sensor: str, declared: str) -> None:
 
 def calibrated(cal: dict, gyro, acc, mag):
     """Rates (rad/s, not increments), specific force and field with each sensor's calibration applied."""
-    pairs = (("gyroscope", gyro), ("accelerometer", acc), ("magnetometer", mag))
+    pairs = (("gyro", gyro), ("acc", acc), ("mag", mag))
     return tuple(x if x is None or s not in cal else cal[s].apply(x) for s, x in pairs)
 
 

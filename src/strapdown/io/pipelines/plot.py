@@ -12,10 +12,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ...evaluate.figures import angles_figure, line_styles, pyplot, save_figures, time_series_figure
-
 # strapdown.io.plots of release 0.1 (this module's old path) also held these
-from ...evaluate.figures import angles_for_display, comparison_figures, plot_comparison  # noqa: F401
+from ...evaluate.figures import (  # noqa: F401
+    angles_figure,
+    angles_for_display,
+    comparison_figures,
+    line_styles,
+    plot_comparison,
+    pyplot,
+    save_figures,
+    time_series_figure,
+)
 from ...rotations.values import Angles
 from ..readers import open_source, read_metadata
 

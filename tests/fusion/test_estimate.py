@@ -1,4 +1,4 @@
-"""The Estimate a filter returns, and its piecewise-constant form (fusion/_base.py)."""
+"""The Estimate a filter returns, and its piecewise-constant form (fusion/estimate.py)."""
 
 import dataclasses
 import pickle
@@ -6,7 +6,8 @@ import pickle
 import numpy as np
 
 from strapdown.fusion import Estimate, attitude
-from strapdown.fusion._base import PiecewiseEstimate, float32_if
+from strapdown.fusion._base import float32_if
+from strapdown.fusion.estimate import PiecewiseEstimate
 
 
 def _piecewise():

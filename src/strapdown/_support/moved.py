@@ -37,7 +37,7 @@ MOVED = {
     "strapdown.batch": "strapdown.apps.batch",
     "strapdown.demo": "strapdown.apps.demo",
     "strapdown.warmup": "strapdown.apps.warmup",
-    "strapdown.fusion.attitude": "strapdown.fusion.attitude_estimator",
+    "strapdown.fusion.attitude": "strapdown.fusion.offline",  # it imports the online estimator too
     "strapdown.io.pipeline": "strapdown.io.pipelines",
     "strapdown.io.plots": "strapdown.io.pipelines.plot",
     "strapdown.io.truth": "strapdown.io.pipelines.truth",

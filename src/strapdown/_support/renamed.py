@@ -44,9 +44,7 @@ def renamed(**new_of_old: str):
                 if old in kwargs:
                     if new in kwargs:
                         raise TypeError(f"{fn.__qualname__}() got both {old}= and {new}= ({old} is the old name)")
-                    warnings.warn(
-                        f"{fn.__qualname__}(): {old}= is now {new}=", DeprecationWarning, stacklevel=2
-                    )
+                    warnings.warn(f"{fn.__qualname__}(): {old}= is now {new}=", DeprecationWarning, stacklevel=2)
                     kwargs[new] = kwargs.pop(old)
             return fn(*args, **kwargs)
 

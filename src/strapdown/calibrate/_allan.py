@@ -24,6 +24,7 @@ from itertools import combinations
 import numpy as np
 
 from .._support import validate as _v
+from ..simulate.models import ImuModel, TriadModel
 from ._calibration import Calibration, sensor_name
 
 __all__ = ["AllanAnalysis", "allan"]
@@ -87,8 +88,6 @@ class AllanAnalysis:
         bias : bool
             Use the mean of the signal as the constant bias.
         """
-        from ..simulate.imu import TriadModel  # the simulator sits above calibration: imported on use only
-
         return TriadModel(
             bias=self.mean if bias else np.zeros(3),
             noise_density=float(np.sqrt(np.mean(self.arw**2))),
@@ -97,8 +96,6 @@ class AllanAnalysis:
 
     def imu_model(self, *, sensor: str = "gyro", bias: bool = True):
         """A :class:`strapdown.simulate.ImuModel` whose ``sensor`` ("gyro", "acc" or "mag") is :meth:`triad_model`."""
-        from ..simulate.imu import ImuModel
-
         sensor = "acc" if sensor == "accel" else sensor_name(sensor)  # the names of release 0.1 too
         _v.choice(sensor, "sensor", ("gyro", "acc", "mag"))
         return ImuModel(**{sensor: self.triad_model(bias=bias)})

@@ -30,6 +30,7 @@ def sensor_name(name) -> str:
     """A sensor's name, ``"gyro"``, ``"acc"`` or ``"mag"`` (release 0.1's full names are taken too)."""
     return _LONG_NAMES.get(name, name)
 
+
 _FORMAT = "strapdown-calibration"
 _VERSION = 1
 

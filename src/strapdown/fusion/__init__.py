@@ -3,7 +3,7 @@
 Every filter is a streaming object (``update`` on chunks, state readable and settable with ``.state``) with a
 batch function of the same name in lower case, a frozen parameter dataclass in physical units, and a private
 numba kernel.  Conventions are those of :mod:`strapdown` (scalar-first quaternions, sensor to reference);
-timing and frames are described in :mod:`strapdown.fusion._base`: sample k is applied over the interval that
+timing and frames are described in :mod:`strapdown.fusion.estimate`: sample k is applied over the interval that
 ends at it, and outputs are in ``frame`` (ENU by default).
 
 * :class:`AttitudeEstimator`: 6D/9D orientation with gyro bias and scale-factor estimation, magnetic
@@ -18,24 +18,18 @@ ends at it, and outputs are in ``frame`` (ENU by default).
 import sys as _sys
 
 from .._support.moved import install as _install_moved
-from ._base import (
-    FLAG_ACC_REJECTED,
-    FLAG_BIAS_AT_LIMIT,
-    FLAG_INVERTED,
-    FLAG_MAG_REJECTED,
-    FLAG_REST,
-    Estimate,
-    initial_attitude,
-)
-from .attitude_estimator import AttitudeEstimator, AttitudeParams, attitude, attitude_offline
+from .attitude_estimator import AttitudeEstimator, AttitudeParams, attitude
 from .complementary import Complementary, ComplementaryParams, complementary
+from .estimate import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_MAG_REJECTED, FLAG_REST, Estimate
+from .initial import initial_attitude
 from .madgwick import Madgwick, MadgwickParams, madgwick
 from .mahony import Mahony, MahonyParams, mahony
+from .offline import attitude_offline
 from .registry import ESTIMATORS, EstimatorEntry, make_params
 from .tilt import TiltEstimator, TiltParams, tilt, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
 
-# strapdown.fusion.attitude names the function here and, as a module path of release 0.1, the estimator's module
-_install_moved({"strapdown.fusion.attitude": _sys.modules[__name__ + ".attitude_estimator"]})
+# strapdown.fusion.attitude names the function here and, as a module path of release 0.1, the estimator (online and offline)
+_install_moved({"strapdown.fusion.attitude": _sys.modules[__name__ + ".offline"]})
 
 __all__ = [
     "ESTIMATORS",

@@ -15,10 +15,6 @@ import math
 import numba as nb
 import numpy as np
 
-# the flag bits are defined once, in _base.py
-from ._base import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
-from ._base import FLAG_BIAS_AT_LIMIT, FLAG_REST
-from ._base import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
 from ._kernels_numba import (
     gap_rate,
     lowpass2,
@@ -30,6 +26,11 @@ from ._kernels_numba import (
     tilt_to_z_scaled,
     unit_rotvec,
 )
+
+# the flag bits are defined once, in estimate.py
+from .estimate import FLAG_ACC_REJECTED as FLAG_ACC_MISSING
+from .estimate import FLAG_BIAS_AT_LIMIT, FLAG_REST
+from .estimate import FLAG_MAG_REJECTED as FLAG_MAG_DISTURBED
 
 # --- layout of s ------------------------------------------------------------------------------------------------
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I

@@ -12,7 +12,6 @@ import math
 import numba as nb
 import numpy as np
 
-from ._base import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
 from ._kernels_numba import (
     gap_rate,
     lowpass2,
@@ -23,6 +22,7 @@ from ._kernels_numba import (
     tilt_to_z,
     unit_rotvec,
 )
+from .estimate import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_REST
 
 # state vector layout (one float64 array, so that get/set and chunking are trivial)
 QG = 0  # 4: gyro frame attitude, sensor -> almost-inertial frame I

@@ -14,7 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._support.renamed import renamed
-from ._base import GRAVITY, Estimate, Estimator
+from ._base import Estimator
+from ._inputs import GRAVITY
+from .estimate import Estimate
 
 __all__ = ["Complementary", "ComplementaryParams", "complementary"]
 

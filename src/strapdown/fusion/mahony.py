@@ -12,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._support.renamed import renamed
-from ._base import Estimate, Estimator
+from ._base import Estimator
+from .estimate import Estimate
 
 __all__ = ["Mahony", "MahonyParams", "mahony"]
 

@@ -73,7 +73,9 @@ from .._support.renamed import renamed
 from ..rotations.euler import from_euler
 from ..rotations.quaternion import rotate
 from ..rotations.tilt import INVERTED_TOL, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
-from ._base import GRAVITY, Estimate, Estimator, _back_to_first_sample, _first_present, float32_if
+from ._base import Estimator, float32_if
+from ._inputs import GRAVITY, _back_to_first_sample, _first_present
+from .estimate import Estimate
 
 __all__ = [
     "TiltEstimator",

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._checks import TimeCheck, check_finite_rows, check_magnitudes, check_units
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .formats.multi import kind_of_file
 from .readers import Source, check_chunk_rows, open_source, require_rows
@@ -29,8 +30,6 @@ from .timebase import check_period, infer_time_unit, origin_of
 from .units import (
     check_gravity_sign,
     check_gyro_at_rest,
-    check_magnitude,
-    check_plausible,
     parse_unit,
     row_norms,
     scale,
@@ -375,7 +374,7 @@ class ImuFile:
         # the checks below read magnitudes: a broken row among these first ones is named by line and column
         for kind in ("gyro", "acc", "mag"):
             if kind in self.picks:
-                self._check_magnitude(kind, _assemble(cols, self.picks[kind]), 0, self.period)
+                check_magnitudes(self, kind, _assemble(cols, self.picks[kind]), 0, self.period)
         if "mag" in self.picks and self.spec.mag_unit is None and self.picks["mag"].unit_hint is None:
             raw = _assemble(cols, self.picks["mag"])
             raw = raw[np.isfinite(raw).all(axis=1)]
@@ -442,10 +441,10 @@ class ImuFile:
         chunk_rows = check_chunk_rows(chunk_rows)
         # integer times (epoch ns) count from the file's first, in integers: as float64 they would lose 0.2 µs
         relative = self.time.fields if self.time is not None and not self._timestamps else ()
-        check = _TimeCheck(self)
+        check = TimeCheck(self)
         for row, cols in self.source.chunks(names, chunk_rows, start, stop, relative=relative):
             n = len(next(iter(cols.values()))) if cols else 0
-            self._check_finite(cols, row, n)
+            check_finite_rows(self, cols, row, n)
             if self._timestamps:
                 t = cols[self.time.fields[0]]  # already seconds
             elif self.time is not None:
@@ -457,9 +456,9 @@ class ImuFile:
             for kind, pick in self.picks.items():
                 raw = _assemble(cols, pick)
                 if kind in _KINDS:
-                    self._check_magnitude(kind, raw, row, check.period)  # before any product can overflow
+                    check_magnitudes(self, kind, raw, row, check.period)  # before any product can overflow
                     if self.spec.unit_check:
-                        self._check_units(kind, raw, row, check.period)
+                        check_units(self, kind, raw, row, check.period)
                 factor = scale(kind, self.units[kind])
                 # one field may be the reader's own (read-only) buffer: the product is then the copy to keep
                 setattr(out, kind, _in_si(raw, factor) if len(pick.fields) > 1 else raw * factor)
@@ -469,71 +468,6 @@ class ImuFile:
                     values = values * scale("acc", self.units["acc"])
                 out.extra[name] = values
             yield out
-
-    def _check_finite(self, cols: dict, row: int, n: int) -> None:
-        # the usual case, every value finite, in one pass without temporaries: a NaN or inf anywhere makes a
-        # column's sum NaN or inf (a sum of finite values that overflows only sends it the long way below)
-        if all(np.isfinite(np.sum(v)) for v in cols.values()):
-            return
-        bad = np.zeros(n, dtype=bool)
-        culprit = {}
-        # a slower sensor's rows are all NaN where it has no sample: those are not bad, partly NaN rows are
-        absent = {}
-        for kind in self.sparse:
-            fields = self.picks[kind].fields
-            none = np.all(
-                [np.isnan(cols[f]).all(axis=1) if cols[f].ndim == 2 else np.isnan(cols[f]) for f in fields], axis=0
-            )
-            absent.update(dict.fromkeys(fields, none))
-        for name, values in cols.items():
-            b = ~np.isfinite(values)
-            if name in absent:
-                b = b & ~(absent[name][:, None] if b.ndim == 2 else absent[name])
-            if b.ndim == 2:
-                b = b.any(axis=1)
-            if b.any():
-                culprit.setdefault(int(np.argmax(b)), name)
-                bad |= b
-        if not bad.any():
-            return
-        rows = np.flatnonzero(bad)
-        shown = ", ".join(self.where(row + int(i)).split()[-1] for i in rows[:5])
-        unit = self.where(row).split()[0] + ("s" if rows.size > 1 else "")
-        more = f" (and {rows.size - 5} more in rows {row}-{row + n - 1})" if rows.size > 5 else ""
-        first = culprit[min(culprit)]
-        what = "NaN or empty values" if np.isnan(np.asarray(cols[first])[rows[0]]).any() else "infinite values"
-        raise ValueError(
-            f"{self.path}: {what} at {unit} {shown}{more}, first in column {first!r}; remove or fill "
-            "those rows (their readings are unknown, and every later attitude depends on them)"
-        )
-
-    def _check_magnitude(self, kind: str, raw: np.ndarray, row: int, period: float | None) -> None:
-        """A ValueError at the first reading past :data:`~strapdown.io.units.LIMITS`: file, line, column, value.
-
-        Not switched off by ``unit_check``: such a reading is a broken row in any unit, and the estimators would
-        only lose the attitude on it later, with no line to look at.
-        """
-        if kind == "gyro" and self.increments:
-            if not period:
-                return  # no rate to turn increments into rates yet (a first chunk of one row)
-            hit = check_magnitude(kind, raw, self.units[kind], rate_hz=1.0 / period)
-        else:
-            hit = check_magnitude(kind, raw, self.units[kind])
-        if hit:
-            i, j, problem = hit
-            pick = self.picks[kind]
-            column = pick.fields[j] if len(pick.fields) > 1 else f"{pick.fields[0]}[{j}]"
-            raise ValueError(f"{self.path}: {self.where(row + i)}, column {column!r}: {problem}")
-
-    def _check_units(self, kind: str, raw: np.ndarray, row: int, period: float | None) -> None:
-        rate = 1.0 / period if (self.increments and kind == "gyro" and period) else None
-        if kind == "gyro" and self.increments and not rate:
-            return
-        if kind in self.sparse:
-            raw = raw[np.isfinite(raw).all(axis=1)]
-        problem = check_plausible(kind, raw, self.units[kind], rate_hz=rate)
-        if problem:
-            raise ValueError(f"{self.path}: {problem} (columns {self.picks[kind].label}, from {self.where(row)})")
 
 
 _SI = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}
@@ -549,49 +483,6 @@ def _assemble(cols: dict, pick: Pick) -> np.ndarray:
         v = cols[pick.fields[0]]
         return np.ascontiguousarray(v if v.ndim == 2 else v[:, None])
     return np.column_stack([cols[f] for f in pick.fields])
-
-
-class _TimeCheck:
-    """Strictly increasing time and no gap longer than ``max_gap`` nominal periods, across chunks."""
-
-    def __init__(self, imu: ImuFile):
-        self.imu = imu
-        self.last: float | None = None
-        self.period: float | None = None if imu.rate is None else 1.0 / imu.rate
-
-    def __call__(self, t: np.ndarray, row: int) -> None:
-        if t.size == 0:
-            return
-        imu = self.imu
-        prev = t[0] if self.last is None else self.last
-        d = np.diff(t, prepend=prev)
-        if self.last is None:
-            d[0] = np.inf
-        bad = np.flatnonzero(~(d > 0))
-        if bad.size:
-            i = int(bad[0])
-            before = prev if i == 0 else t[i - 1]
-            raise ValueError(
-                f"{imu.path}: time ({imu.time.label}) does not increase at {imu.where(row + i)}: {float(before)!r} -> "
-                f"{float(t[i])!r}; sort the rows, or drop the repeated ones"
-            )
-        if self.period is None:
-            inner = d[np.isfinite(d)]
-            if inner.size:
-                self.period = float(np.median(inner))
-        limit = imu.spec.max_gap
-        if limit and self.period:
-            over = np.flatnonzero(np.isfinite(d) & (d > limit * self.period))
-            if over.size:
-                i = int(over[0])
-                before = prev if i == 0 else t[i - 1]
-                raise ValueError(
-                    f"{imu.path}: a gap of {d[i]:.6g} s ({d[i] / self.period:.1f} sample periods of "
-                    f"{self.period:.6g} s) before {imu.where(row + i)} (time {float(before)!r} -> {float(t[i])!r}); "
-                    f"at most --max-gap {limit:g} periods are allowed.  Split the file there, or raise --max-gap "
-                    "(0: no check)"
-                )
-        self.last = float(t[-1])
 
 
 def read_imu(path, columns: ImuColumns | None = None, **kwargs) -> ImuChunk:

@@ -62,19 +62,7 @@ from .methods import BASELINES, CONING, MAX_STEP_ANGLE, METHODS, NORMALIZE, STEP
 __all__ = ["METHODS", "AttitudeIntegrator", "SingularityError", "integrate"]
 
 
-
-
-
-
-
-
-
-
-
-
 @dataclass
-
-
 class AttitudeIntegrator:
     """Streaming attitude propagation: feed gyro chunks, get attitudes; any chunking gives the same result.
 
@@ -203,7 +191,6 @@ class AttitudeIntegrator:
         self._dt_anchor = self._state.extra.get("dt_anchor")
         self._finished = False
 
-
     @property
     def attitude(self) -> np.ndarray | None:
         """The latest emitted attitude(s), body to reference: shape (4,) or (B, 4)."""
@@ -251,7 +238,6 @@ class AttitudeIntegrator:
             st.extra["buf_t"] = np.zeros(0)  # sample instants (relative), one per buffered sample
             st.extra["buf_first"] = 0  # global index of the first buffered sample
         return st
-
 
     def _times(self, n: int, dt, t) -> tuple[np.ndarray, np.ndarray | None, float]:
         """Step durations, step end times and the end of the chunk's last step.
@@ -496,14 +482,6 @@ class AttitudeIntegrator:
         else:
             st.counter = k.sequential(g, h, hstep, self.scale, kind, norm, self.normalize_every, st.counter, st.q, out)
         return out
-
-
-
-
-
-
-
-
 
 
 def integrate(

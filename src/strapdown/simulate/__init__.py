@@ -23,7 +23,7 @@ from .aerobatics import (
     spin,
     split_s,
 )
-from .imu import ClockModel, ImuModel, TriadModel
+from .models import ClockModel, ImuModel, TriadModel
 from .recorded import RecordedMotion, sample_recorded
 from .sampling import ImuData, MagneticDisturbance, MagneticField, sample
 from .trajectories import GRAVITY, Coning, ConstantRotation, RandomMotion, RockingPlatform, Trajectory

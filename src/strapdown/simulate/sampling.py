@@ -29,7 +29,8 @@ import numpy as np
 
 from ..rotations.frames import change_frame, frame_matrix
 from ..rotations.quaternion import conjugate, rotate
-from .imu import ImuModel, apply_clock, corrupt
+from .imu import apply_clock, corrupt
+from .models import ImuModel
 from .trajectories import Trajectory, _positive, _seed
 
 # The most samples one call makes: about 10 GB of readings and truth.  More is a rate or duration typed wrong

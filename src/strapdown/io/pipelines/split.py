@@ -26,8 +26,9 @@ from ..._support.files import scratch_dir
 from ..._support.pool import Runner, gather
 from ...propagate.integrate import AttitudeIntegrator, SingularityError, integrate
 from ...rotations.quaternion import multiply
+from .._checks import TimeCheck
 from ..conventions import time_metadata
-from ..imu import ImuColumns, ImuFile, _TimeCheck
+from ..imu import ImuColumns, ImuFile
 from ..readers import format_of, open_source
 from ..tables import OutputSpec, attitude_columns
 from ..writers import csv_comments, table_writer
@@ -270,7 +271,7 @@ def _check_in_order(imu: ImuFile, chunk_rows: int, ranges: Sequence[_Part], ends
     A part's own rows are judged with the period of the part's first chunk: the same on regularly sampled
     files, not to the last digit on jittery ones.
     """
-    check = _TimeCheck(imu)
+    check = TimeCheck(imu)
     if check.period is None and len(ranges) > 1:
         for chunk in imu.chunks(chunk_rows):
             check(chunk.t, chunk.row)

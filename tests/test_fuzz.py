@@ -145,7 +145,7 @@ NOT_FUZZED = {
     "as_scipy": "returns scipy Rotation objects: test_interop.py",
     "to_scipy": "as_scipy by its name of release 0.1",
     "AttitudeIntegrator": "streaming: test_streaming_state_fuzz",
-    "make_params": "takes an estimator's name and a mapping, not arrays: tests/test_cli.py",
+    "make_params": "takes an estimator's name and a mapping, not arrays: tests/cli/test_cli.py",
     "Attitude": "a thin object over the fuzzed functions (its constructor validates q): test_attitude_object.py",
 }
 STREAMING = ["TiltEstimator", "Mahony", "Madgwick", "Complementary", "AttitudeEstimator"]

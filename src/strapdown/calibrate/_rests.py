@@ -4,7 +4,7 @@ A sample is at rest when, over a window centred on it, every accelerometer axis 
 less than a threshold, and the gyro's mean is small (so that a steady turn on a turntable, whose readings do
 not scatter either, is not taken for rest).  Runs of rest samples at least ``min_duration`` long are the
 rests.  The defaults suit MEMS sensors held by hand and then set down: BROAD's breaks are found with them
-(``tests/test_calibrate_accelerometer.py``).
+(``tests/calibrate/test_calibrate_accelerometer.py``).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ conditions: the rate at the first and at the last sample is that segment's mean 
 
 Direction of time.  Each cubic is anchored at its segment's first sample, so the spline through the same samples
 played backwards is not exactly the same curve (scipy's neither): the two differ by a term of third order in the
-rotation between samples (about 1e-7 rad for steps of 0.01 rad, 1e-4 rad for 0.1 rad; tests/test_spline.py).
+rotation between samples (about 1e-7 rad for steps of 0.01 rad, 1e-4 rad for 0.1 rad; tests/propagate/test_spline.py).
 
 Frames.  r is a body-frame increment (the attitude is updated on the right, strapdown's convention), so the
 rates that fall out of it are body rates, ``ω = J(r) ṙ``, the gyro's.  scipy's rates are the same body-frame

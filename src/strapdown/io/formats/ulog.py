@@ -12,7 +12,7 @@
 * Frames: PX4 sensor data are in body axes FRD, and ``vehicle_attitude.q`` is the "quaternion rotation from the
   FRD body frame to the NED earth frame", Hamilton convention, order (w, x, y, z) (PX4 uORB ``VehicleAttitude.msg``):
   strapdown's own convention, so the preset is reference NED, body FRD, and :func:`read_attitude` takes ``q`` as
-  it is.  ``tests/test_io_formats.py`` checks it physically: at rest the log's tilt and the estimator's agree
+  it is.  ``tests/io/test_io_formats.py`` checks it physically: at rest the log's tilt and the estimator's agree
   within 0.1°, where a conjugated quaternion would mirror the tilt.
 """
 

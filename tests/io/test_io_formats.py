@@ -16,7 +16,7 @@ from strapdown.fusion import AttitudeEstimator
 from strapdown.io import ImuColumns, ImuFile, read_imu, read_reference
 from strapdown.evaluate.metrics import attitude_errors
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 PX4 = sorted((DATA / "px4").glob("*.ulg"))
 
 

@@ -271,7 +271,7 @@ def test_integrate_restarts_from_q0_after_a_gap(tmp_path):
 
 
 # ------------------------------------------------------------------------------------------------ real layouts
-DATA = __import__("pathlib").Path(__file__).parent / "data"
+DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data"
 PX4_LOG = DATA / "px4" / "sample_logging_tagged_and_default_params.ulg"
 
 

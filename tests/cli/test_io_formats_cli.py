@@ -16,7 +16,7 @@ import sim_exports as sim
 from strapdown.io import read_metadata, read_reference, read_table
 from strapdown.evaluate.metrics import attitude_errors
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def run(*args):

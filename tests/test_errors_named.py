@@ -5,9 +5,9 @@ import pytest
 
 import strapdown as sd
 from strapdown import quaternion as quat
-from strapdown.rotations.average import average_two, chordal_distance, mean
-from strapdown.fusion import Mahony, tilt_from_pitch_roll, tilt_from_up
 from strapdown.evaluate.metrics import error_quaternion
+from strapdown.fusion import Mahony, tilt_from_pitch_roll, tilt_from_up
+from strapdown.rotations.average import average_two, chordal_distance, mean
 
 TWO, THREE = np.tile([1.0, 0, 0, 0], (2, 1)), np.tile([1.0, 0, 0, 0], (3, 1))
 

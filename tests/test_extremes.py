@@ -12,8 +12,8 @@ import pytest
 
 import strapdown as sd
 from strapdown import quaternion as quat
-from strapdown.rotations.average import chordal_distance
 from strapdown.fusion import tilt_from_up, tilt_rates
+from strapdown.rotations.average import chordal_distance
 
 
 def unit(q):

@@ -22,9 +22,9 @@ from hypothesis import strategies as st
 import strapdown as sd
 from strapdown import fusion, quaternion, wahba
 from strapdown import metrics as met
+from strapdown.propagate.interpolate import RotationSpline, resample, slerp_series, squad_series
 from strapdown.rotations.average import average_two, chordal_distance, geodesic_distance, mean
 from strapdown.rotations.decompose import attitude_error, shortest_arc, swing_twist
-from strapdown.propagate.interpolate import RotationSpline, resample, slerp_series, squad_series
 
 EXAMPLES = 40  # per entry point: about 60 entry points x 40 examples
 

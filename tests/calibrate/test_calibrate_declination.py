@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from strapdown.calibrate import declination, field, to_true_north
-from strapdown.fusion import attitude
 from strapdown.evaluate.metrics import rmse_errors
+from strapdown.fusion import attitude
 from strapdown.simulate import MagneticField, RandomMotion, sample
 
 pytest.importorskip("pygeomag")

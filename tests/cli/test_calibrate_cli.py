@@ -8,8 +8,8 @@ import pytest
 from click.testing import CliRunner
 
 from strapdown.cli import _build
-from strapdown.io import read_metadata, read_table, write_table
 from strapdown.evaluate.metrics import rmse_errors
+from strapdown.io import read_metadata, read_table, write_table
 from strapdown.simulate import ImuModel, MagneticField, RandomMotion, sample
 from strapdown.simulate.imu import TriadModel
 

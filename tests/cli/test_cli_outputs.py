@@ -311,8 +311,8 @@ def test_a_phone_export_given_as_its_files_or_its_folder_lies_flat(tmp_path):
 
 
 def test_a_px4_log_goes_in_with_no_options_in_its_own_frames(tmp_path):
-    from strapdown.io import read_reference
     from strapdown.evaluate.metrics import attitude_errors
+    from strapdown.io import read_reference
 
     res = ok("estimate", PX4_LOG, "-o", tmp_path / "att.parquet")
     assert "read:" in res.stderr
@@ -337,8 +337,8 @@ def test_sensors_at_lower_rates_are_refused_by_an_estimator_that_needs_every_row
 # ------------------------------------------------------------------------------------------------ plot --truth
 def test_plot_truth_in_other_frames_is_re_expressed_and_said_so(tmp_path):
     from conftest import rotation_angle
-    from strapdown.io.pipelines.truth import align_truth
     from strapdown.evaluate.metrics import attitude_errors
+    from strapdown.io.pipelines.truth import align_truth
 
     ok("simulate", tmp_path / "sim.parquet", "--scenario", "rocking", "--duration", 20)  # truth in ENU, FLU axes
     ok("estimate", tmp_path / "sim.parquet", "-o", tmp_path / "ned.parquet", "--frame", "NED", "--body", "FLU")

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import sim_exports as sim
-from strapdown.io import read_metadata, read_reference, read_table
 from strapdown.evaluate.metrics import attitude_errors
+from strapdown.io import read_metadata, read_reference, read_table
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -9,11 +9,11 @@ import scipy.io
 from click.testing import CliRunner
 
 from conftest import BROAD_DIR
-from strapdown.evaluate.broad import example_start, load_reference_results, load_trial, load_trials
 from strapdown.cli import _build
+from strapdown.evaluate.broad import example_start, load_reference_results, load_trial, load_trials
 from strapdown.evaluate.evaluation import evaluate, grid_search
-from strapdown.fusion import complementary
 from strapdown.evaluate.metrics import rmse_errors
+from strapdown.fusion import complementary
 from strapdown.simulate import RandomMotion, sample
 
 DATA = BROAD_DIR / "data_mat"

@@ -9,6 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from strapdown import change_frame
+from strapdown.evaluate.metrics import attitude_errors, rmse
 from strapdown.fusion import (
     FLAG_ACC_REJECTED,
     FLAG_BIAS_AT_LIMIT,
@@ -19,7 +20,6 @@ from strapdown.fusion import (
     attitude,
     attitude_offline,
 )
-from strapdown.evaluate.metrics import attitude_errors, rmse
 from strapdown.simulate import (
     ConstantRotation,
     ImuModel,

@@ -7,6 +7,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from strapdown import change_frame
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.fusion import (
     FLAG_ACC_REJECTED,
     AttitudeEstimator,
@@ -19,7 +20,6 @@ from strapdown.fusion import (
     TiltEstimator,
     initial_attitude,
 )
-from strapdown.evaluate.metrics import attitude_errors
 from strapdown.simulate import RandomMotion, sample
 
 G = 9.80665

@@ -9,6 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from strapdown import as_euler, change_frame
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.fusion import (
     FLAG_ACC_REJECTED,
     FLAG_INVERTED,
@@ -21,7 +22,6 @@ from strapdown.fusion import (
     tilt_from_up,
     tilt_rates,
 )
-from strapdown.evaluate.metrics import attitude_errors
 from strapdown.simulate import RockingPlatform, sample
 from strapdown.simulate.imu import ImuModel, TriadModel
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import sim_exports as sim
+from strapdown.evaluate.metrics import attitude_errors
 from strapdown.fusion import AttitudeEstimator
 from strapdown.io import ImuColumns, ImuFile, read_imu, read_reference
-from strapdown.evaluate.metrics import attitude_errors
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 PX4 = sorted((DATA / "px4").glob("*.ulg"))

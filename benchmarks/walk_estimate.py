@@ -6,8 +6,10 @@ Two measures, both from ``sys.setprofile`` on a warm second call (everything imp
   or an array inside an argument, two levels deep); the strapdown modules they run in, in order;
 * **the whole walk**: every call of a strapdown function during the command.
 
-A *stay* is a run of consecutive calls in one module, a *room* a distinct module, and a *return* a stay in a
-room already visited (returns = stays - rooms).  Fewer returns means a reader follows the data through fewer
+Calls on every thread count (the file commands read ahead on a thread of their own).
+
+A *stay* is a run of consecutive calls in one module on one thread, a *room* a distinct module, and a *return* a
+stay in a room that thread already visited.  Fewer returns means a reader follows the data through fewer
 files and back.  It runs on any commit that has ``strapdown.io.estimate_file`` and ``write_table`` (release 0.1
 too), so the figure before a change is measured with this script on the older checkout.
 
@@ -18,6 +20,7 @@ too), so the figure before a change is measured with this script on the older ch
 import pathlib
 import sys
 import tempfile
+import threading
 
 import numpy as np
 
@@ -56,7 +59,7 @@ def _holds(x, depth=0) -> bool:
 
 
 def walk(path: pathlib.Path, out: pathlib.Path) -> tuple[list, list]:
-    """(every call, the calls carrying the datum), each a list of (module, function)."""
+    """(every call, the calls carrying the datum), each a list of (thread, module, function)."""
     every, datum = [], []
 
     def profile(frame, event, arg):
@@ -66,23 +69,37 @@ def walk(path: pathlib.Path, out: pathlib.Path) -> tuple[list, list]:
         if not module.startswith("strapdown"):
             return
         code = frame.f_code
-        every.append((module, code.co_name))
+        here = threading.get_ident()
+        every.append((here, module, code.co_name))
         names = code.co_varnames[: code.co_argcount + code.co_kwonlyargcount]
         if any(_holds(frame.f_locals.get(v)) for v in names):
-            datum.append((module, code.co_name))
+            datum.append((here, module, code.co_name))
 
+    # every thread: the file commands read the next chunks on a thread of their own (io/_ahead.py)
+    threading.setprofile(profile)
     sys.setprofile(profile)
     try:
         estimate_file(path, out)
     finally:
         sys.setprofile(None)
+        threading.setprofile(None)
     return every, datum
 
 
 def stays(calls: list) -> tuple[int, int, int]:
-    """(stays, rooms, returns) of a list of (module, function) calls."""
-    runs = [m for i, (m, _) in enumerate(calls) if i == 0 or calls[i - 1][0] != m]
-    return len(runs), len(set(runs)), len(runs) - len(set(runs))
+    """(stays, rooms, returns) of a list of (thread, module, function) calls.
+
+    Each thread's calls are a walk of their own (the reading thread's interleave with the main thread's at
+    random); the stays and returns are summed over the threads, the rooms counted once.
+    """
+    total, returns, rooms = 0, 0, set()
+    for thread in dict.fromkeys(t for t, _, _ in calls):
+        mine = [m for t, m, _ in calls if t == thread]
+        runs = [m for i, m in enumerate(mine) if i == 0 or mine[i - 1] != m]
+        total += len(runs)
+        returns += len(runs) - len(set(runs))
+        rooms |= set(runs)
+    return total, len(rooms), returns
 
 
 def main() -> None:
@@ -94,8 +111,9 @@ def main() -> None:
         s, r, ret = stays(calls)
         print(f"{name:<18} {len(calls):5d} calls  {s:4d} stays  {r:3d} rooms  {ret:4d} returns")
     if "-v" in sys.argv:
-        for module, function in datum:
-            print(f"  {module}.{function}")
+        main = datum[0][0] if datum else None
+        for thread, module, function in datum:
+            print(f"  {'' if thread == main else '[reader] '}{module}.{function}")
 
 
 if __name__ == "__main__":

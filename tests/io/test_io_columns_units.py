@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from strapdown.io.columns import detect_rate, detect_time, detect_vector, pick_vector, split_name
-from strapdown.io.units import GRAVITY, check_plausible, parse_unit, scale
+from strapdown.io.plausibility import check_plausible
+from strapdown.io.units import GRAVITY, parse_unit, scale
 
 
 @pytest.mark.parametrize(

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from conftest import strapdown_cli
 from strapdown.io import ImuColumns, ImuFile, write_table
-from strapdown.io.units import LIMITS, check_gyro_at_rest, check_magnitude, check_plausible, row_norms
+from strapdown.io.plausibility import LIMITS, check_gyro_at_rest, check_magnitude, check_plausible, row_norms
 
 
 def still(n=200):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import importlib
 
 # module -> the extra that installs it
@@ -21,6 +22,7 @@ _EXTRA = {
 }
 
 
+@functools.cache  # the readers ask at every chunk: a hit is a dictionary look-up, no import machinery
 def need(module: str, what: str):
     """Import ``module`` or raise ImportError saying which extra to install for ``what``."""
     try:

@@ -60,6 +60,22 @@ class _Finder(importlib.abc.MetaPathFinder):
         return importlib.machinery.ModuleSpec(fullname, _Loader())
 
 
+def names(module: str, homes: dict[str, str]):
+    """A module ``__getattr__`` for the names that left ``module`` since release 0.1 (``homes``: name -> module).
+
+    ``from strapdown.io.units import check_plausible`` then still gives the function from its new home, imported
+    when first asked for; the module's ``__all__`` lists only what it defines now.
+    """
+
+    def __getattr__(name: str):
+        home = homes.get(name)
+        if home is None:
+            raise AttributeError(f"module {module!r} has no attribute {name!r}")
+        return getattr(importlib.import_module(home), name)
+
+    return __getattr__
+
+
 def install(parents: dict[str, object]) -> None:
     """Put the finder on ``sys.meta_path`` once.
 

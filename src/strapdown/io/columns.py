@@ -10,11 +10,10 @@ optional ``imu`` in front and an axis letter after, with a unit at the end or in
 from __future__ import annotations
 
 import itertools
-import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from .units import parse_unit
+from .units import parse_unit, split_name
 
 __all__ = ["Pick", "describe_fields", "detect_rate", "detect_time", "detect_vector", "pick_vector", "split_name"]
 
@@ -72,66 +71,6 @@ class Pick:
     def label(self) -> str:
         """The fields as written on a command line."""
         return ",".join(self.fields)
-
-
-def split_name(name: str, kind: str | None = None) -> tuple[str, str | None]:
-    """A field name without its unit, in lower-case letters and digits, and the unit if one is written.
-
-    Parameters
-    ----------
-    name : str
-        The field's name as in the file (``"Gyro X [deg/s]"``, ``"timestamp_ns"``, ``"imu/gyr"``).
-    kind : {"gyro", "acc", "mag", "time"}, optional
-        The quantity whose units are looked for (all when None).
-
-    Returns
-    -------
-    base : str
-        The name without the unit: ``"gyrox"``, ``"timestamp"``.
-    unit : str or None
-        The canonical unit when one is written.
-
-    Examples
-    --------
-    >>> from strapdown.io.columns import split_name
-    >>> split_name("Gyro X [deg/s]", "gyro"), split_name("timestamp_ns", "time"), split_name("ax", "acc")
-    (('gyrox', 'deg/s'), ('timestamp', 'ns'), ('ax', None))
-    """
-    kinds = (kind,) if kind else _KINDS
-    indexed = re.match(r"^(.*\S)\[([0-2])\]$", name)  # PX4's gyro_rad[0]: an index, x y z
-    if indexed:
-        base, unit = split_name(indexed.group(1), kind)
-        return base + _AXES[int(indexed.group(2))], unit
-    unit = None
-    bracket = re.search(r"[\[(]([^\])]*)[\])]", name)
-    if bracket:
-        text = bracket.group(1).strip()
-        # a bracket that names no unit of these kinds is passed on as written: used as a unit it stops with
-        # "unknown unit", where ignoring it would read "[°C]" or "[krpm]" silently as SI
-        unit = _first_unit(kinds, text) or (text if kind and _first_unit(_KINDS, text) is None else None)
-        name = name[: bracket.start()] + name[bracket.end() :]
-    slashed = re.search(r"[_ \-]?([a-zµμ°]+/[a-z0-9^²]+)$", name, re.IGNORECASE)  # gyro_x_deg/s, ax m/s^2
-    if slashed and _first_unit(_KINDS, slashed.group(1)):
-        # a unit of any kind is cut off, so that "gyro_x_rad/sec" is not taken for an HDF5 path ending in "sec"
-        unit = unit or _first_unit(kinds, slashed.group(1))
-        name = name[: slashed.start()]
-    name = name.split("/")[-1]  # an HDF5 path: the last segment names the field
-    tokens = re.findall(r"[a-z0-9]+", name.lower())
-    # a unit spelt as the last one or two tokens (gyro_x_rad_s, acc_x_g), when something is left before it
-    for k in (2, 1):
-        if unit is None and len(tokens) > k:
-            found = _first_unit(kinds, "".join(tokens[-k:]))
-            if found:
-                unit, tokens = found, tokens[:-k]
-    return "".join(tokens), unit
-
-
-def _first_unit(kinds, text: str) -> str | None:
-    for k in kinds:
-        u = parse_unit(k, text, strict=False)
-        if u:
-            return u
-    return None
 
 
 def describe_fields(fields: Mapping[str, int]) -> str:

@@ -10,9 +10,9 @@ user needs to fix it: the file, the column and the line (CSV) or row:
 * a column that is not there (the message lists those that are), arrays of different lengths (HDF5, .mat);
 * NaN, empty or infinite values (the first line numbers);
 * time that does not increase (where, and the two values), gaps longer than ``max_gap`` sample periods;
-* magnitudes no sensor reads in any unit (:data:`strapdown.io.units.LIMITS`: 1e4 rad/s, 1e7 m/s², 1e7 µT),
+* magnitudes no sensor reads in any unit (:data:`strapdown.io.plausibility.LIMITS`: 1e4 rad/s, 1e7 m/s², 1e7 µT),
   the line and column named, in every chunk and whatever ``unit_check`` says;
-* units that the magnitudes contradict (:func:`strapdown.io.units.check_plausible`).
+* units that the magnitudes contradict (:func:`strapdown.io.plausibility.check_plausible`).
 """
 
 from __future__ import annotations
@@ -22,16 +22,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._checks import TimeCheck, check_finite_rows, check_magnitudes, check_units
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .formats.multi import kind_of_file
+from .plausibility import TimeCheck, check_chunk, probe
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
 from .units import (
-    check_gravity_sign,
-    check_gyro_at_rest,
     parse_unit,
-    row_norms,
     scale,
 )
 
@@ -69,7 +66,7 @@ class ImuColumns:
         Largest step allowed between two times, in nominal sample periods (0: no check).
     unit_check : bool
         Check that the magnitudes fit the units.  Magnitudes no sensor reads in any unit
-        (:data:`strapdown.io.units.LIMITS`) are refused either way: no estimator can use them.
+        (:data:`strapdown.io.plausibility.LIMITS`) are refused either way: no estimator can use them.
     format : str, optional
         The input format when the layout or suffix does not tell it (:data:`strapdown.io.readers.INPUT_FORMATS`).
     topic : str, optional
@@ -364,39 +361,12 @@ class ImuFile:
         return self._head_cols
 
     def _probe(self) -> None:
-        """Checks on the first rows: a normalised magnetometer, gravity's sign, a gyro the accelerometer contradicts."""
-        kinds = [k for k in ("acc", "mag") if k in self.picks]  # the gyro alone has nothing to be checked against
-        if not kinds or not self.spec.unit_check:
-            return
+        """Checks on the first rows (:func:`strapdown.io.plausibility.probe`)."""
+        if not self.spec.unit_check or not any(k in self.picks for k in ("acc", "mag")):
+            return  # the gyro alone has nothing to be checked against
         cols = self._head()
-        if not len(next(iter(cols.values()))):
-            return
-        # the checks below read magnitudes: a broken row among these first ones is named by line and column
-        for kind in ("gyro", "acc", "mag"):
-            if kind in self.picks:
-                check_magnitudes(self, kind, _assemble(cols, self.picks[kind]), 0, self.period)
-        if "mag" in self.picks and self.spec.mag_unit is None and self.picks["mag"].unit_hint is None:
-            raw = _assemble(cols, self.picks["mag"])
-            raw = raw[np.isfinite(raw).all(axis=1)]
-            norms = row_norms(raw)
-            if norms.size and 0.8 <= np.median(norms) <= 1.25 and self.units["mag"] == "uT":
-                self.units["mag"] = "normalised"
-                self.notes.append(f"mag normalised (|m| median {np.median(norms):.3g}): used for its direction")
-        if "acc" not in self.picks:
-            return
-        acc = _assemble(cols, self.picks["acc"]) * scale("acc", self.units["acc"])
-        if self.source.upright and self.body:
-            problem = check_gravity_sign(acc[np.isfinite(acc).all(axis=1)], self.body)
-            if problem:
-                raise ValueError(f"{self.path}: {problem} (columns {self.picks['acc'].label})")
-        if not self.increments and self.period:
-            gyro = _assemble(cols, self.picks["gyro"]) * scale("gyro", self.units["gyro"])
-            both = np.isfinite(acc).all(axis=1) & np.isfinite(gyro).all(axis=1)
-            problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * self.period, self.units["gyro"])
-            if problem:
-                raise ValueError(
-                    f"{self.path}: {problem} (columns {self.picks['gyro'].label} and {self.picks['acc'].label})"
-                )
+        if len(next(iter(cols.values()))):
+            probe(self, {kind: _assemble(cols, pick) for kind, pick in self.picks.items() if kind in _KINDS})
 
     def count_rows(self) -> int:
         """Number of rows (a pass over a CSV file)."""
@@ -444,24 +414,19 @@ class ImuFile:
         check = TimeCheck(self)
         for row, cols in self.source.chunks(names, chunk_rows, start, stop, relative=relative):
             n = len(next(iter(cols.values()))) if cols else 0
-            check_finite_rows(self, cols, row, n)
             if self._timestamps:
                 t = cols[self.time.fields[0]]  # already seconds
             elif self.time is not None:
                 t = _in_si(cols[self.time.fields[0]] - self._t0, scale("time", self.units["time"]))
             else:
                 t = (row + np.arange(n)) / self.rate
-            check(t, row)
+            raws = {kind: _assemble(cols, pick) for kind, pick in self.picks.items()}
+            check_chunk(self, cols, raws, t, row, check)  # every check before any product can overflow
             out = ImuChunk(row, t, gyro=None)
-            for kind, pick in self.picks.items():
-                raw = _assemble(cols, pick)
-                if kind in _KINDS:
-                    check_magnitudes(self, kind, raw, row, check.period)  # before any product can overflow
-                    if self.spec.unit_check:
-                        check_units(self, kind, raw, row, check.period)
+            for kind, raw in raws.items():
                 factor = scale(kind, self.units[kind])
                 # one field may be the reader's own (read-only) buffer: the product is then the copy to keep
-                setattr(out, kind, _in_si(raw, factor) if len(pick.fields) > 1 else raw * factor)
+                setattr(out, kind, _in_si(raw, factor) if len(self.picks[kind].fields) > 1 else raw * factor)
             for name, pick in self.extra.items():
                 values = _assemble(cols, pick)
                 if name == "known_acc" and "acc" in self.units:

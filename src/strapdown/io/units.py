@@ -1,29 +1,27 @@
-"""Units of IMU columns: names and aliases, conversion to SI, and the checks that catch a wrong declaration.
+"""Units of IMU columns: names and aliases, conversion to SI, and the unit written in a column's name.
 
 The library computes in SI (rad/s, m/s², seconds); the magnetometer only matters by direction but is still
-converted to µT so that its plausibility can be checked.  A declared unit that the data contradict (a gyro in
-"rad/s" turning faster than any MEMS gyro can measure, an accelerometer in "m/s2" reading 1 at rest) is an
-error with the fix in the message: silently integrating degrees as radians gives nonsense that looks fine.
+converted to µT so that its plausibility can be checked (:mod:`strapdown.io.plausibility`, which also refuses a
+declared unit that the data contradict).
 """
 
 from __future__ import annotations
 
 import math
+import re
 
-import numpy as np
+from .._support.moved import names
 
-__all__ = [
-    "GRAVITY",
-    "LIMITS",
-    "UNITS",
-    "check_gravity_sign",
-    "check_gyro_at_rest",
-    "check_magnitude",
-    "check_plausible",
-    "parse_unit",
-    "row_norms",
-    "scale",
-]
+__all__ = ["GRAVITY", "UNITS", "parse_unit", "scale", "split_name"]
+
+# the plausibility checks lived here in release 0.1
+__getattr__ = names(
+    __name__,
+    dict.fromkeys(
+        ("LIMITS", "check_gravity_sign", "check_gyro_at_rest", "check_magnitude", "check_plausible", "row_norms"),
+        "strapdown.io.plausibility",
+    ),
+)
 
 GRAVITY = 9.80665
 
@@ -128,369 +126,64 @@ def scale(kind: str, unit: str) -> float:
     return UNITS[kind][parse_unit(kind, unit)]
 
 
-# A MEMS gyro's largest range is about ±2000°/s (35 rad/s); human and vehicle motion stays well below it.
-_GYRO_MAX = 35.0
-# Typical ranges of |value| in each declared unit, to say which unit a wrong declaration probably is.
-# Past ±16 g (the largest range of consumer accelerometers) a median |a| is no accelerometer in that unit.
-_ACC_MAX = 16 * GRAVITY
-_ACC_AT_REST = {"m/s2": (6.0, 14.0), "g": (0.6, 1.4), "mg": (600.0, 1400.0)}
-_EARTH_FIELD = {
-    "uT": (15.0, 80.0),
-    "gauss": (0.15, 0.8),
-    "nT": (15e3, 80e3),
-    "mT": (0.015, 0.08),
-    "normalised": (0.5, 2.0),
-}
+_ALL = ("gyro", "acc", "mag", "time")  # the quantities whose units a column name may carry
 
 
-#: Magnitudes (SI; µT for the magnetometer) that no sensor reads, in any unit: a reading past them is a broken
-#: row, not a unit to declare, and no estimator can use it (``--no-unit-check`` does not switch this check off).
-LIMITS = {
-    # 1e4 rad/s is 1.6 kHz of spin (95,000 rpm): six times a spinning artillery shell (~250 rev/s), the fastest
-    # body that carries an IMU, and twenty times the widest gyro ranges (tens of thousands of °/s, ~500 rad/s)
-    "gyro": 1e4,
-    # 1e7 m/s² is a million g: five times the largest rated shock accelerometers (200,000 g), ~1e5 times the
-    # ±16 g of consumer parts; raw 16-bit counts declared as m/s² (<= 32768) stay below it for the unit check
-    "acc": 1e7,
-    # 1e7 µT is 10 T: past an MRI scanner (1.5-7 T) and ten times a neodymium magnet's surface field (~1 T);
-    # the Earth's field in nT declared as µT (~5e4) and raw counts stay below it for the unit check
-    "mag": 1e7,
-}
-_SI_UNIT = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}
-_NAME = {"gyro": "gyro", "acc": "accelerometer", "mag": "magnetometer"}
-_WHY = {"gyro": "1.6 kHz of spin", "acc": "a million g", "mag": "10 T, past an MRI scanner"}
-
-
-def row_norms(v) -> np.ndarray:
-    """Euclidean norms of the rows of ``v``, without overflow or underflow on the way.
-
-    Each row is divided by its largest ``|component|`` before squaring, so ``[1e300, 0, 0]`` has norm 1e300 (the
-    plain sum of squares overflows to inf past 1e154) and ``[1e-300, 0, 0]`` norm 1e-300, not 0.  Rows with NaN
-    give NaN, rows with inf give inf, and a norm past the largest float is inf; none of them warns.
+def split_name(name: str, kind: str | None = None) -> tuple[str, str | None]:
+    """A field name without its unit, in lower-case letters and digits, and the unit if one is written.
 
     Parameters
     ----------
-    v : array_like, shape (..., k)
-        Vectors along the last axis.
+    name : str
+        The field's name as in the file (``"Gyro X [deg/s]"``, ``"timestamp_ns"``, ``"imu/gyr"``).
+    kind : {"gyro", "acc", "mag", "time"}, optional
+        The quantity whose units are looked for (all when None).
 
     Returns
     -------
-    numpy.ndarray, shape (...)
-        Their norms.
+    base : str
+        The name without the unit: ``"gyrox"``, ``"timestamp"``.
+    unit : str or None
+        The canonical unit when one is written.
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from strapdown.io.units import row_norms
-    >>> row_norms(np.array([[3e300, 4e300, 0.0], [0.0, 0.0, 0.0]]))
-    array([5.e+300, 0.e+000])
+    >>> from strapdown.io.units import split_name
+    >>> split_name("Gyro X [deg/s]", "gyro"), split_name("timestamp_ns", "time"), split_name("ax", "acc")
+    (('gyrox', 'deg/s'), ('timestamp', 'ns'), ('ax', None))
     """
-    v = np.asarray(v, dtype=np.float64)
-    m = np.abs(v).max(axis=-1)
-    s = np.where((m > 0) & np.isfinite(m), m, 1.0)  # 0, NaN and inf rows are divided by 1: no 0/0 or inf/inf
-    u = v / s[..., None]
-    with np.errstate(over="ignore"):  # only a norm past 1.8e308 can overflow here, and inf is its value
-        return s * np.sqrt(np.einsum("...i,...i->...", u, u))
+    kinds = (kind,) if kind else ("gyro", "acc", "mag", "time")
+    indexed = re.match(r"^(.*\S)\[([0-2])\]$", name)  # PX4's gyro_rad[0]: an index, x y z
+    if indexed:
+        base, unit = split_name(indexed.group(1), kind)
+        return base + "xyz"[int(indexed.group(2))], unit
+    unit = None
+    bracket = re.search(r"[\[(]([^\])]*)[\])]", name)
+    if bracket:
+        text = bracket.group(1).strip()
+        # a bracket that names no unit of these kinds is passed on as written: used as a unit it stops with
+        # "unknown unit", where ignoring it would read "[°C]" or "[krpm]" silently as SI
+        unit = _first_unit(kinds, text) or (text if kind and _first_unit(_ALL, text) is None else None)
+        name = name[: bracket.start()] + name[bracket.end() :]
+    slashed = re.search(r"[_ \-]?([a-zµμ°]+/[a-z0-9^²]+)$", name, re.IGNORECASE)  # gyro_x_deg/s, ax m/s^2
+    if slashed and _first_unit(_ALL, slashed.group(1)):
+        # a unit of any kind is cut off, so that "gyro_x_rad/sec" is not taken for an HDF5 path ending in "sec"
+        unit = unit or _first_unit(kinds, slashed.group(1))
+        name = name[: slashed.start()]
+    name = name.split("/")[-1]  # an HDF5 path: the last segment names the field
+    tokens = re.findall(r"[a-z0-9]+", name.lower())
+    # a unit spelt as the last one or two tokens (gyro_x_rad_s, acc_x_g), when something is left before it
+    for k in (2, 1):
+        if unit is None and len(tokens) > k:
+            found = _first_unit(kinds, "".join(tokens[-k:]))
+            if found:
+                unit, tokens = found, tokens[:-k]
+    return "".join(tokens), unit
 
 
-def check_magnitude(
-    kind: str, values: np.ndarray, unit: str, *, rate_hz: float | None = None, converted: bool = False
-) -> tuple[int, int, str] | None:
-    """The first row whose magnitude no sensor reads (:data:`LIMITS`), its largest component and what is wrong.
-
-    One pass of ``abs`` and ``max`` over the rows (cheap enough for every chunk of a file); only rows past the
-    limit over √3 get an exact, overflow-free norm.  Rows with NaN or infinite values are left to the finite
-    check.  The message says the value in the declared unit and in SI, and whether another unit of ``kind``
-    would make it plausible (deg/s read as rad/s) or none does (a broken row).
-
-    Parameters
-    ----------
-    kind : {"gyro", "acc", "mag"}
-        The quantity.
-    values : numpy.ndarray, shape (N, 3)
-        The readings: as in the file (in ``unit``), or in SI when ``converted``.
-    unit : str
-        The declared unit (canonical name); for gyro increments "rad/s" means rad and "deg/s" deg.
-    rate_hz : float, optional
-        Sample rate, for gyro increments: they are judged as the rates increment × rate.
-    converted : bool
-        ``values`` are in SI already (converted with ``unit``).
-
-    Returns
-    -------
-    (int, int, str) or None
-        Row and component (0-based) of the first reading past the limit, and the message, without a location.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.io.units import check_magnitude
-    >>> gyro = np.zeros((5, 3))
-    >>> check_magnitude("gyro", gyro, "rad/s") is None
-    True
-    >>> gyro[3, 1] = 1e300
-    >>> row, component, message = check_magnitude("gyro", gyro, "rad/s")
-    >>> row, component, message[:55]
-    (3, 1, 'the gyro reads 1e+300 rad/s (|gyro| 1e+300 rad/s), beyo')
-    """
-    values = np.asarray(values, dtype=np.float64)
-    if values.size == 0:
-        return None
-    base = 1.0 if converted else scale(kind, unit)  # SI per value
-    per = rate_hz or 1.0
-    # the SI magnitude limit in the units of ``values``: no product of a huge value is ever formed
-    limit = LIMITS[kind] / (base * per)
-    # every component under limit/√3 (the usual case): no row can be past the limit.  Two whole-array
-    # reductions cost a tenth of the per-row abs-max below (numpy's axis=1 reduction over 3 is slow); NaN or
-    # inf anywhere falls through to the per-row pass, which leaves those rows to the finite check
-    bound = max(float(values.max()), -float(values.min()))
-    if bound <= limit / math.sqrt(3.0):
-        return None
-    top = np.abs(values).max(axis=1)
-    near = np.flatnonzero(np.isfinite(top) & (top > limit / math.sqrt(3.0)))
-    if near.size == 0:
-        return None
-    norms = row_norms(values[near])
-    over = np.flatnonzero(norms > limit)
-    if over.size == 0:
-        return None
-    i = int(near[over[0]])
-    j = int(np.argmax(np.abs(values[i])))
-    norm = float(norms[over[0]])  # Python floats: a product past 1.8e308 is inf, without a warning
-    value = float(values[i, j]) / (scale(kind, unit) if converted else 1.0)
-    si = _SI_UNIT[kind]
-    if rate_hz:
-        own = {"rad/s": "rad", "deg/s": "deg"}.get(unit, unit)
-        what = f"the gyro increment reads {value:.4g} {own}, at {rate_hz:g} Hz a rate of {norm * base * per:.4g} {si}"
-    else:
-        what = f"the {_NAME[kind]} reads {value:.4g} {unit} (|{kind}| {norm * base:.4g} {si})"
-    what += f", beyond {LIMITS[kind]:.0e} {si} ({_WHY[kind]})"
-    # another unit of the quantity would take the file's numbers to a plausible size: smaller units only
-    declared = scale(kind, unit)
-    as_unit = {u: norm * base / declared * f * per for u, f in UNITS[kind].items() if f < declared}
-    fits = [u for u, x in as_unit.items() if x <= LIMITS[kind]]
-    if fits:
-        advice = (
-            f"as {fits[0]} it would be {as_unit[fits[0]]:.3g} {si}.  Pass --{kind}-unit {fits[0]} if that is the "
-            "unit, else fix or remove that row"
-        )
-    else:
-        advice = (
-            f"not plausible in any unit ({', '.join(UNITS[kind])}).  Fix or remove that row (--no-unit-check does "
-            "not skip this: no estimator can use such a reading)"
-        )
-    return i, j, f"{what}: {advice}"
-
-
-def _impossible(hit: tuple[int, int, str], what: str) -> str:
-    """A :func:`check_magnitude` finding as a check's message, located in the array given to the check."""
-    i, j, message = hit
-    return f"{message} (row {i}, component {'xyz'[j] if j < 3 else j} of {what})"
-
-
-def check_plausible(kind: str, raw: np.ndarray, unit: str, *, rate_hz: float | None = None) -> str | None:
-    """A message when the magnitudes of ``raw`` (the file's values) contradict the declared ``unit``, else None.
-
-    The gyro check flags rates beyond any MEMS gyro's range (±2000°/s) declared as rad/s; for increments
-    give ``rate_hz`` and the increments are turned into rates.  The accelerometer and magnetometer checks
-    compare the median magnitude with gravity and the Earth's field (15-80 µT) and name the unit it fits.
-    A reading past :data:`LIMITS` is named first (row and component, :func:`check_magnitude`): no unit
-    explains it, so it is no hint of one.
-
-    Parameters
-    ----------
-    kind : {"gyro", "acc", "mag"}
-        The quantity.
-    raw : numpy.ndarray, shape (N, 3)
-        Values as read (before conversion), finite.
-    unit : str
-        The declared unit (canonical name).
-    rate_hz : float, optional
-        Sample rate, for gyro increments.
-
-    Returns
-    -------
-    str or None
-        What looks wrong and how to say otherwise.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.io.units import check_plausible
-    >>> check_plausible("acc", np.array([[0.0, 0.0, 1.0]] * 10), "m/s2")[:46]
-    '|acc| is about 1 m/s2 (median), gravity is 9.8'
-    >>> check_plausible("acc", np.array([[0.0, 0.0, 9.81]] * 10), "m/s2") is None
-    True
-    """
-    if raw.shape[0] == 0:
-        return None
-    # a reading no unit explains is no hint of a unit (1e300 is not deg/s either): say so, wherever it is
-    hit = check_magnitude(kind, raw, unit, rate_hz=rate_hz)
-    if hit:
-        return _impossible(hit, "the values checked")
-    sub = raw[:: max(1, raw.shape[0] // 4096)]  # a few thousand rows tell the unit; the whole chunk costs more
-    mags = row_norms(sub)
-    if kind == "gyro":
-        if unit != "rad/s":
-            return None
-        rates = mags * rate_hz if rate_hz else mags
-        high = float(np.percentile(rates, 99))
-        if high > _GYRO_MAX:
-            return (
-                f"gyro magnitudes reach {high:.4g} rad/s, beyond the ±2000°/s range of any MEMS gyro: they look "
-                "like deg/s.  Pass --gyro-unit deg/s, or --no-unit-check if they really are rad/s"
-            )
-        return None
-    median = float(np.median(mags))
-    table = _ACC_AT_REST if kind == "acc" else _EARTH_FIELD
-    lo, hi = table[unit]
-    if lo <= median <= hi:
-        return None
-    fits = [u for u, (a, b) in table.items() if u != unit and a <= median <= b]
-    option = "--acc-unit" if kind == "acc" else "--mag-unit"
-    if kind == "acc":
-        si = median * UNITS["acc"][unit]
-        # gravity keeps a fixed direction while the body moves little, so the mean vector is about as long as the
-        # samples; with gravity removed the samples swing about zero and their mean vector is short
-        steady = float(np.linalg.norm(sub.mean(axis=0))) / median if median > 0 else 0.0
-        if fits and steady > 0.5:
-            return (
-                f"|acc| is about {median:.3g} {unit} (median), gravity is 9.81 m/s2: the values look like "
-                f"{fits[0]}.  Pass {option} {fits[0]}, or --no-unit-check if {unit} is right"
-            )
-        if si < 0.5 * GRAVITY:
-            return (
-                f"|acc| is about {si:.3g} m/s2 (median) with a mean vector of {steady * si:.3g} m/s2, where an "
-                "accelerometer reads gravity (9.81 m/s2) plus motion: this looks like a gravity-free 'linear "
-                "acceleration' stream (phyphox's Linear Accelerometer, Sensor Logger's Accelerometer.csv), not the "
-                "specific force the estimators need.  Use the file with gravity (phyphox Accelerometer, Sensor "
-                "Logger TotalAcceleration.csv), or --no-unit-check"
-            )
-        if si < _ACC_MAX:
-            return None  # sustained high g (aerobatics, a centrifuge): possible, and no unit fits better
-        return (
-            f"|acc| is about {median:.4g} {unit} (median) = {si:.4g} m/s2, far from gravity (9.81 m/s2) at any "
-            f"unit ({', '.join(_ACC_AT_REST)}): raw sensor counts?  Scale them to a unit, or --no-unit-check"
-        )
-    if not fits:
-        return None  # raw counts or an unusual field: the estimators use its direction only, so no complaint
-    what = "the Earth's field is 25-65 uT"
-    return (
-        f"|{kind}| is about {median:.3g} {unit} (median), {what}: the values look like {fits[0]}.  "
-        f"Pass {option} {fits[0]}, or --no-unit-check if {unit} is right"
-    )
-
-
-def check_gravity_sign(acc, body: str) -> str | None:
-    """A message when an upright body's accelerometer reads gravity downwards at rest (a sign error), else None.
-
-    At rest an accelerometer reads the specific force, +g along the body's up (``-z`` for FRD, ``+z`` for FLU
-    or RFU).  A vehicle that starts upright (a drone on the ground) whose mean first reading points within 30°
-    of the body's *down* is reporting acceleration with the opposite sign (or has its z axis flipped).
-
-    Parameters
-    ----------
-    acc : numpy.ndarray, shape (N, 3)
-        The first readings, m/s², finite.
-    body : str
-        The sensor axes (``"FRD"``, ``"FLU"``, ...).
-
-    Returns
-    -------
-    str or None
-        What looks wrong.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.io.units import check_gravity_sign
-    >>> check_gravity_sign(np.tile([0.0, 0.0, -9.8], (50, 1)), "FRD") is None   # FRD at rest: up is -z
-    True
-    >>> check_gravity_sign(np.tile([0.0, 0.0, 9.8], (50, 1)), "FRD")[:40]
-    'the accelerometer reads gravity downward'
-    """
-    if acc.shape[0] == 0 or body[2] not in "UD":
-        return None
-    mean = acc.mean(axis=0)
-    norm = float(np.linalg.norm(mean))
-    if not 0.5 * GRAVITY < norm < 1.5 * GRAVITY:
-        return None  # moving, or a unit problem that check_plausible names
-    up = np.array([0.0, 0.0, 1.0 if body[2] == "U" else -1.0])
-    if float(mean @ up) / norm < -math.cos(math.radians(30)):
-        return (
-            f"the accelerometer reads gravity downward at the start ({np.round(mean, 2).tolist()} m/s2 in {body} "
-            f"axes), where a body at rest reads +9.81 m/s2 upward: it looks like acceleration with the sign "
-            f"flipped, or the log starts upside down.  Negate it, or pass --no-unit-check if it really is inverted"
-        )
+def _first_unit(kinds, text: str) -> str | None:
+    for k in kinds:
+        u = parse_unit(k, text, strict=False)
+        if u:
+            return u
     return None
-
-
-# A gyro that says the body tilts this fast while gravity stays put in the body contradicts the accelerometer:
-# 0.2 rad/s (11°/s) is far past any MEMS gyro's bias (a few °/s at worst, uncalibrated).
-_TILT_RATE_AT_REST = 0.2
-
-
-def check_gyro_at_rest(gyro, acc, seconds: float, unit: str) -> str | None:
-    """A message when the gyro turns the body about a horizontal axis while the accelerometer says it does not.
-
-    At rest, or turning about the vertical only (a turntable), gravity keeps its direction in the body.  A mean
-    rate of more than 0.2 rad/s about an axis perpendicular to gravity would turn that direction by 11° a
-    second; if the accelerometer's direction stays within 3° over the window instead, the gyro's numbers are not
-    rates in ``unit`` (deg/s values declared as rad/s read a 0.5°/s bias as 29°/s), or the two sensors' axes
-    differ.  A gyro reading past :data:`LIMITS` is named instead (row and component, :func:`check_magnitude`).
-
-    Parameters
-    ----------
-    gyro, acc : numpy.ndarray, shape (N, 3)
-        Rates (rad/s, converted with the declared unit) and specific force (m/s²) of the same rows, finite.
-    seconds : float
-        The span of the rows, s.
-    unit : str
-        The gyro's declared unit, for the message.
-
-    Returns
-    -------
-    str or None
-        What looks wrong.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.io.units import check_gyro_at_rest
-    >>> acc = np.tile([0.0, 0.0, 9.81], (500, 1))
-    >>> check_gyro_at_rest(np.tile([0.0, 0.0, 1.0], (500, 1)), acc, 5.0, "rad/s") is None   # a turntable
-    True
-    >>> check_gyro_at_rest(np.tile([0.5, -0.3, 0.2], (500, 1)), acc, 5.0, "rad/s")[:38]
-    'the gyro turns the body at 0.583 rad/s'
-    """
-    n = acc.shape[0]
-    if n < 20 or seconds < 1.0:
-        return None
-    # a rate no unit explains is not "deg/s declared as rad/s": name it (and keep it out of the sums below)
-    hit = check_magnitude("gyro", gyro, unit, converted=True)
-    if hit:
-        return _impossible(hit, "the gyro rows checked")
-    # the accelerometer only by direction, scaled by its largest reading: no sum or square can overflow
-    size = float(np.abs(acc).max())
-    if not 0.0 < size < math.inf:
-        return None
-    k = max(1, n // 10)
-    blocks = (acc / size)[: n - n % k].reshape(-1, k, 3).mean(axis=1)  # means of k rows: the noise out
-    lengths = row_norms(blocks)
-    ref = blocks[0]
-    g = float(lengths[0]) * size
-    if not 0.8 * GRAVITY < g < 1.2 * GRAVITY:
-        return None
-    up = ref / lengths[0]
-    cos = blocks @ up / np.where(lengths > 0, lengths, 1.0)  # a zero block: cos 0, a drift of 90°
-    drift = float(np.degrees(np.arccos(np.clip(cos.min(), -1.0, 1.0))))
-    w = gyro.mean(axis=0)
-    across = float(np.linalg.norm(w - (w @ up) * up))
-    if drift > 3.0 or across < _TILT_RATE_AT_REST:
-        return None
-    guess = "  The values look like deg/s: pass --gyro-unit deg/s" if unit == "rad/s" else ""
-    return (
-        f"the gyro turns the body at {across:.3g} rad/s about a horizontal axis ({np.degrees(across * seconds):.0f}° "
-        f"in {seconds:.3g} s), but gravity stays within {drift:.1f}° in the accelerometer's axes: the gyro's numbers "
-        f"are not rates in {unit}, or the two sensors' axes differ.{guess} (or --no-unit-check)"
-    )

@@ -1,17 +1,21 @@
-"""What every file command shares: the report, output paths, metadata and messages naming file rows."""
+"""What every file command shares: its options, the output side (time, gaps, one writer per segment), the report,
+output paths, metadata and messages naming file rows."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from contextlib import ExitStack
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..._support.version import VERSION
+from ..conventions import GapSplitter, time_metadata
 from ..imu import ImuColumns
 from ..readers import check_chunk_rows, format_of
 from ..tables import OutputSpec
+from ..writers import table_writer
 
 CHUNK_ROWS = 1 << 18  # rows in flight: about 400 bytes of memory each, and no speed to gain beyond
 
@@ -156,7 +160,7 @@ def with_progress(chunks: Iterator, total: int | None, progress: Progress | None
     done = 0
     for chunk in chunks:
         yield chunk
-        done += len(chunk)
+        done += chunk.t.shape[0]
         if progress is not None:
             progress(done, total)
 
@@ -229,10 +233,89 @@ def rows_text(imu, chunk) -> str:
 def slice_chunk(chunk, a: int, b: int):
     from ..imu import ImuChunk
 
-    if (a, b) == (0, len(chunk)):
-        return chunk
     part = ImuChunk(chunk.row + a, chunk.t[a:b], chunk.gyro[a:b])
     part.acc = None if chunk.acc is None else chunk.acc[a:b]
     part.mag = None if chunk.mag is None else chunk.mag[a:b]
     part.extra = {k: v[a:b] for k, v in chunk.extra.items()}
     return part
+
+
+class Segments:
+    """The output side of a file command: relative time, gaps (``on_gap``), one writer per segment file."""
+
+    def __init__(self, imu, output: Path, out: OutputSpec, max_gap: float, on_gap: str, meta: dict):
+        self.imu, self.output, self.out, self.on_gap, self.meta = imu, Path(output), out, on_gap, meta
+        self.splitter = GapSplitter(max_gap, getattr(imu, "period", None)) if on_gap != "error" else None
+        self.t_first: float | None = None
+        self.writers: dict[int, object] = {}
+        self.outputs: list[Path] = []
+        self.notes: list[str] = []
+        self.rows = 0
+        self.segment_of_estimator = -1
+        self.current = None  # the chunk in flight, for messages
+        self._stack = ExitStack()
+
+    def __enter__(self):
+        self._stack.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        if exc[0] is None:
+            if not self.writers:  # no rows: the reader said so already, but never leave without a file
+                self._writer(0)
+            if self.splitter is not None and self.splitter.gaps:
+                listing = "; ".join(f"{a:.6g} s -> {b:.6g} s" for a, b in self.splitter.gaps[:5])
+                more = f" and {len(self.splitter.gaps) - 5} more" if len(self.splitter.gaps) > 5 else ""
+                how = "a file per segment" if self.on_gap == "split" else "started afresh after each gap"
+                self.notes.append(f"{len(self.splitter.gaps)} gap(s) ({how}): {listing}{more}")
+        return self._stack.__exit__(*exc)
+
+    def t(self, chunk) -> np.ndarray:
+        """Seconds from the first sample of the file."""
+        self._start(chunk)
+        return chunk.t - self.t_first
+
+    def _start(self, chunk) -> None:
+        """The time origin, from the first chunk."""
+        if self.t_first is None:
+            self.t_first = float(chunk.t[0]) if chunk.t.size else 0.0
+            self.meta.update(time_metadata(self.imu, self.t_first))
+            self.meta["time_first_input_s"] = repr(self.t_first)
+
+    def pieces(self, chunks):
+        """(segment, chunk) in order, the chunks cut at the gaps."""
+        seg = 0
+        for chunk in chunks:
+            n = chunk.t.shape[0]
+            if not n:
+                continue
+            self._start(chunk)
+            cuts = [] if self.splitter is None else list(self.splitter(self.t(chunk)))
+            start = 0
+            for i in [*cuts, n]:
+                if i > start:
+                    self.current = chunk if (start, i) == (0, n) else slice_chunk(chunk, start, i)
+                    yield seg, self.current
+                if i < n:
+                    seg += 1
+                start = i
+
+    def _writer(self, seg: int):
+        key = seg if self.on_gap == "split" else 0
+        if key not in self.writers:
+            name = f"{self.output.stem}-{key + 1}{self.output.suffix}"
+            path = self.output if key == 0 else self.output.with_name(name)
+            meta = dict(self.meta)
+            if self.on_gap == "split":
+                meta["segment"] = str(key)
+            self.writers[key] = self._stack.enter_context(table_writer(path, self.out.format, meta))
+            self.outputs.append(path)
+        return self.writers[key]
+
+    def write(self, seg: int, columns: dict) -> None:
+        if self.on_gap == "restart":
+            columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
+        w = self._writer(seg)
+        # attitude_columns made new arrays for every chunk: no copy needed
+        w.write(columns, copy=False)
+        self.rows += len(columns["t"])

@@ -15,6 +15,7 @@ from ..tables import _attitude_columns, flag_bits
 from ._common import (
     FileOptions,
     Report,
+    Segments,
     culprit,
     input_paths,
     metadata,
@@ -23,7 +24,6 @@ from ._common import (
     rows_text,
     with_progress,
 )
-from ._segments import Segments
 
 
 def estimator_inputs(cls) -> tuple[str, ...]:

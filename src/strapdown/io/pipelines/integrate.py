@@ -14,8 +14,17 @@ from .._ahead import ReadAhead
 from ..conventions import output_metadata, resolve_axes
 from ..imu import ImuFile
 from ..tables import OutputSpec, _attitude_columns
-from ._common import FileOptions, Report, input_paths, metadata, options_of, output_path, rows_text, with_progress
-from ._segments import Segments
+from ._common import (
+    FileOptions,
+    Report,
+    Segments,
+    input_paths,
+    metadata,
+    options_of,
+    output_path,
+    rows_text,
+    with_progress,
+)
 
 
 def integrate_stream(

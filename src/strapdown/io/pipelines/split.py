@@ -26,7 +26,7 @@ from ..._support.files import scratch_dir
 from ..._support.pool import Runner, gather
 from ...propagate.integrate import AttitudeIntegrator, SingularityError, integrate
 from ...rotations.quaternion import multiply
-from .._checks import TimeCheck
+from ..plausibility import TimeCheck
 from ..conventions import time_metadata
 from ..imu import ImuColumns, ImuFile
 from ..readers import format_of, open_source

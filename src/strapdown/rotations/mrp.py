@@ -24,8 +24,6 @@ def from_mrp(mrp, *, check: bool = True) -> np.ndarray:
     ----------
     mrp : array_like, shape (..., 3)
         MRPs ``n tan(χ/4)``, short (|p| ≤ 1) or shadow (|p| ≥ 1) set.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -57,8 +55,6 @@ def as_mrp(q, *, check: bool = True) -> np.ndarray:
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions (need not be normalised); ``q`` and ``-q`` give the same result.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
@@ -92,8 +88,6 @@ def shadow_mrp(mrp, *, check: bool = True) -> np.ndarray:
     ----------
     mrp : array_like, shape (..., 3)
         Non-zero MRPs (the identity, p = 0, has its shadow at infinity).
-    check : bool
-        Reject NaN, infinities and zero vectors (default).
 
     Returns
     -------

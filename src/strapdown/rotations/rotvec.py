@@ -28,10 +28,6 @@ def from_rotvec(rotvec, degrees: bool = False, *, check: bool = True) -> np.ndar
     ----------
     rotvec : array_like, shape (..., 3)
         Rotation vectors; their length is the angle, in radians (or degrees with ``degrees=True``).
-    degrees : bool
-        Lengths in degrees.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -66,10 +62,6 @@ def as_rotvec(q, degrees: bool = False, *, check: bool = True) -> np.ndarray:
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions (need not be normalised).
-    degrees : bool
-        Return lengths in degrees.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
@@ -101,10 +93,6 @@ def from_axis_angle(axis, angle, degrees: bool = False, *, check: bool = True) -
         Rotation axes; they are normalised, and must not be zero.
     angle : array_like, shape (...)
         Angles (right-handed about the axis), broadcast against the leading axes of ``axis``.
-    degrees : bool
-        Angles in degrees.
-    check : bool
-        Reject NaN, infinities and zero axes (default).
 
     Returns
     -------
@@ -145,10 +133,6 @@ def as_axis_angle(q, degrees: bool = False, *, check: bool = True) -> tuple[np.n
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions (need not be normalised).
-    degrees : bool
-        Return angles in degrees.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
@@ -181,8 +165,6 @@ def from_gibbs(gibbs, convention: str = "gajda", *, check: bool = True) -> np.nd
         (``convention="rodrigues"``).  Must be finite: a 180° rotation has no Gibbs vector.
     convention : {"gajda", "rodrigues"}
         Which of the two scalings.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------

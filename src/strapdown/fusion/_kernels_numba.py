@@ -1,4 +1,10 @@
-"""Small scalar helpers shared by the fusion kernels (private)."""
+"""Small scalar helpers shared by the fusion kernels (private).
+
+The filter kernels (:mod:`._attitude_numba`, :mod:`._tilt_numba`) allow fused multiply-adds
+(``fastmath={"contract"}``) and nothing else of fastmath: each is one correctly rounded operation, nothing is
+reassociated, so any chunking still gives bit-identical results; it makes the per-sample recursion about a tenth
+faster.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +14,15 @@ import numba as nb
 
 from ..propagate._integrate_numba import TAYLOR_SHORT, exp_half_minus_one
 from ..rotations._quaternion_numba import qmul
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def unit3(x, y, z):
+    """A sensor sample's direction and length: ``(x, y, z) / n, n`` with n = |v|, or ``(x, y, z), 0`` for v = 0."""
+    n = math.sqrt(x * x + y * y + z * z)
+    if n > 0.0:
+        return x / n, y / n, z / n, n
+    return x, y, z, n
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")

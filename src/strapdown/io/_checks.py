@@ -78,6 +78,11 @@ def check_units(imu, kind: str, raw: np.ndarray, row: int, period: float | None)
         raise ValueError(f"{imu.path}: {problem} (columns {imu.picks[kind].label}, from {imu.where(row)})")
 
 
+def _around(imu, t: np.ndarray, prev: float, row: int, i: int) -> tuple[str, float, float]:
+    """Where row i of a chunk starting at ``row`` is, the time before it (``prev`` for the first) and its own."""
+    return imu.where(row + i), float(prev if i == 0 else t[i - 1]), float(t[i])
+
+
 class TimeCheck:
     """Strictly increasing time and no gap longer than ``max_gap`` nominal periods, across chunks."""
 
@@ -96,11 +101,10 @@ class TimeCheck:
             d[0] = np.inf
         bad = np.flatnonzero(~(d > 0))
         if bad.size:
-            i = int(bad[0])
-            before = prev if i == 0 else t[i - 1]
+            where, before, at = _around(imu, t, prev, row, int(bad[0]))
             raise ValueError(
-                f"{imu.path}: time ({imu.time.label}) does not increase at {imu.where(row + i)}: {float(before)!r} -> "
-                f"{float(t[i])!r}; sort the rows, or drop the repeated ones"
+                f"{imu.path}: time ({imu.time.label}) does not increase at {where}: {before!r} -> {at!r}; sort the "
+                "rows, or drop the repeated ones"
             )
         if self.period is None:
             inner = d[np.isfinite(d)]
@@ -111,10 +115,10 @@ class TimeCheck:
             over = np.flatnonzero(np.isfinite(d) & (d > limit * self.period))
             if over.size:
                 i = int(over[0])
-                before = prev if i == 0 else t[i - 1]
+                where, before, at = _around(imu, t, prev, row, i)
                 raise ValueError(
                     f"{imu.path}: a gap of {d[i]:.6g} s ({d[i] / self.period:.1f} sample periods of "
-                    f"{self.period:.6g} s) before {imu.where(row + i)} (time {float(before)!r} -> {float(t[i])!r}); "
+                    f"{self.period:.6g} s) before {where} (time {before!r} -> {at!r}); "
                     f"at most --max-gap {limit:g} periods are allowed.  Split the file there, or raise --max-gap "
                     "(0: no check)"
                 )

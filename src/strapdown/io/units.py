@@ -4,6 +4,8 @@ The library computes in SI (rad/s, m/s², seconds); the magnetometer only matter
 converted to µT so that its plausibility can be checked.  A declared unit that the data contradict (a gyro in
 "rad/s" turning faster than any MEMS gyro can measure, an accelerometer in "m/s2" reading 1 at rest) is an
 error with the fix in the message: silently integrating degrees as radians gives nonsense that looks fine.
+The ``check_*`` functions that judge a whole stream return that message, what looks wrong and how to say
+otherwise (``--no-unit-check`` among the fixes), or None when nothing does.
 """
 
 from __future__ import annotations
@@ -311,7 +313,7 @@ def check_plausible(kind: str, raw: np.ndarray, unit: str, *, rate_hz: float | N
     Returns
     -------
     str or None
-        What looks wrong and how to say otherwise.
+        The message: the unit the values look like, or raw counts, or gravity missing from ``acc``.
 
     Examples
     --------
@@ -398,7 +400,7 @@ def check_gravity_sign(acc, body: str) -> str | None:
     Returns
     -------
     str or None
-        What looks wrong.
+        The message: the reading's direction and sign, in ``body`` axes.
 
     Examples
     --------
@@ -451,7 +453,7 @@ def check_gyro_at_rest(gyro, acc, seconds: float, unit: str) -> str | None:
     Returns
     -------
     str or None
-        What looks wrong.
+        The message: the rate across gravity against the accelerometer's drift, or a reading past the limits.
 
     Examples
     --------

@@ -6,7 +6,8 @@
   Gibbs vector / Rodrigues parameters ``g = n tan(χ/2)`` (Shuster 1993) with ``convention="rodrigues"``.  It
   is infinite at χ = 180°.
 
-``as_*`` functions return angles in [0, π] (the shorter way round), so ``q`` and ``-q`` give the same result.
+``as_*`` functions take quaternions of any non-zero norm (the rotation of ``q / |q|``) and return angles in
+[0, π] (the shorter way round), so ``q`` and ``-q`` give the same result.
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ def as_rotvec(q, degrees: bool = False, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions (need not be normalised).
+        Attitudes.
 
     Returns
     -------
@@ -132,7 +133,7 @@ def as_axis_angle(q, degrees: bool = False, *, check: bool = True) -> tuple[np.n
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions (need not be normalised).
+        As for :func:`as_rotvec`.
 
     Returns
     -------

@@ -447,12 +447,8 @@ def _rest(gyro, acc, dts, j0, j1, p, rs, flags, squares):
             ax, ay, az = a0, a1, a2
         ex, ey, ez = wx - rgx, wy - rgy, wz - rgz
         fx, fy, fz = ax - rax, ay - ray, az - raz
-        rgx += rr * ex
-        rgy += rr * ey
-        rgz += rr * ez
-        rax += rr * fx
-        ray += rr * fy
-        raz += rr * fz
+        rgx, rgy, rgz = rgx + rr * ex, rgy + rr * ey, rgz + rr * ez
+        rax, ray, raz = rax + rr * fx, ray + rr * fy, raz + rr * fz
         dg = keep2 * (ex * ex + ey * ey + ez * ez)
         da = keep2 * (fx * fx + fy * fy + fz * fz)
         rv += rr * (dg - rv)

@@ -41,18 +41,24 @@ def rotate_back(w, x, y, z, vx, vy, vz):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def _stepped(w, x, y, z, px, py, pz, left):
+    """The step q ⊗ exp(φ/2) (``left``: exp(φ/2) ⊗ q) as q + q ⊗ (exp(φ/2) - 1), not normalised."""
+    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
+    if left:
+        ew, ex, ey, ez = qmul(dw, dx, dy, dz, w, x, y, z)
+    else:
+        ew, ex, ey, ez = qmul(w, x, y, z, dw, dx, dy, dz)
+    return w + ew, x + ex, y + ey, z + ez
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def right_step(w, x, y, z, px, py, pz):
     """Right step q ⊗ exp(φ/2), normalised: the exact body-rate update (the integrator's increment form).
 
     The step keeps |q| = 1 to rounding, so the series normalisation q (3 - |q|²)/2 (nabbla part 9) is exact to
     rounding and needs no square root; it also pulls any |q| near 1 back quadratically.
     """
-    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
-    ew, ex, ey, ez = qmul(w, x, y, z, dw, dx, dy, dz)
-    w += ew
-    x += ex
-    y += ey
-    z += ez
+    w, x, y, z = _stepped(w, x, y, z, px, py, pz, False)
     f = 1.5 - 0.5 * (w * w + x * x + y * y + z * z)
     return w * f, x * f, y * f, z * f
 
@@ -97,12 +103,7 @@ def renormalised(w, x, y, z):
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def left_step(w, x, y, z, px, py, pz):
     """exp(φ/2) ⊗ q, normalised: a rotation by φ in the reference frame."""
-    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
-    ew, ex, ey, ez = qmul(dw, dx, dy, dz, w, x, y, z)
-    w += ew
-    x += ex
-    y += ey
-    z += ez
+    w, x, y, z = _stepped(w, x, y, z, px, py, pz, True)
     inv = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
     return w * inv, x * inv, y * inv, z * inv
 

@@ -126,17 +126,17 @@ def multiply(p, q, *, check: bool = True) -> np.ndarray:
 
 
 def conjugate(q, *, check: bool = True) -> np.ndarray:
-    """Conjugate ``q* = [w, -x, -y, -z]``; for a unit quaternion this is the inverse rotation.
+    """Conjugate ``q* = [w, -x, -y, -z]``.
 
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Quaternions.
+        Quaternions, zero included (plain algebra).
 
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Conjugates.
+        The conjugates; for a unit quaternion, the inverse rotation.
 
     Examples
     --------
@@ -193,7 +193,7 @@ def inverse(q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
+        Quaternions of any non-zero norm (for a unit one the inverse is the conjugate).
 
     Returns
     -------
@@ -290,7 +290,7 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Exponentials.
+        Exponentials, of norm e^w: unit quaternions for pure ``q``.
 
     Examples
     --------
@@ -350,7 +350,7 @@ def log(q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
+        Non-zero quaternions: the scalar part of the result is ln|q|.
 
     Returns
     -------
@@ -562,18 +562,17 @@ def canonical(q, *, check: bool = True) -> np.ndarray:
     """Pick one of ``±q`` by a total rule, removing the double cover (Liu et al.'s compressed quaternion space).
 
     The rule: ``w > 0``; on a tie (``w = 0``) ``x > 0``; then ``y > 0``; then ``z > 0``.  Signed zeros count as
-    ties and come out as ``+0.0``, so ``canonical(q)`` and ``canonical(-q)`` are bit-identical.  The norm is
-    kept (call :func:`normalize` first if you need unit quaternions).
+    ties and come out as ``+0.0``, so ``canonical(q)`` and ``canonical(-q)`` are bit-identical.
 
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
+        Non-zero quaternions; the norm is kept (call :func:`normalize` first if you need unit ones).
 
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Canonical quaternions.
+        ``q`` or ``-q``, whichever the rule picks.
 
     Examples
     --------

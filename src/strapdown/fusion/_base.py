@@ -315,7 +315,7 @@ def _shape_text(shape: tuple) -> str:
 
 
 def nonnegative(params, names: tuple[str, ...], what: str) -> None:
-    """Raise unless each named field of a parameter object is finite and ≥ 0 (``what``: "gain", ...) ."""
+    """Raise unless each named field of a parameter object is finite and ≥ 0 (``what``: "gain", ...)."""
     for name in names:
         v = getattr(params, name)
         if not (np.isfinite(v) and v >= 0):

@@ -217,9 +217,49 @@ def test_public_functions_have_numpy_docstrings_with_examples(module):
     for name in mod.__all__:
         obj = getattr(mod, name)
         if inspect.isfunction(obj):
-            doc = obj.__doc__ or ""
-            assert "Examples" in doc and ">>>" in doc, f"{module}.{name} has no example"
-            assert "Parameters" in doc and ("Returns" in doc or "Yields" in doc), f"{module}.{name}: numpy sections"
+            _check_numpy_docstring(f"{module}.{name}", obj)
+
+
+def _check_numpy_docstring(name, fn):
+    import inspect
+
+    doc = fn.__doc__ or ""
+    assert "Examples" in doc and ">>>" in doc, f"{name} has no example"
+    assert "Returns" in doc or "Yields" in doc, f"{name}: numpy sections"
+    # a function without parameters needs no "Parameters" section (nor one that says "None")
+    assert "Parameters" in doc or not inspect.signature(fn).parameters, f"{name}: its parameters are not documented"
+
+
+def test_the_docstring_check_wants_a_parameters_section_only_for_parameters():
+    def documented():
+        """Nothing to pass.
+
+        Returns
+        -------
+        int
+
+        Examples
+        --------
+        >>> 1
+        1
+        """
+
+    def undocumented(x):
+        """Something to pass.
+
+        Returns
+        -------
+        int
+
+        Examples
+        --------
+        >>> 1
+        1
+        """
+
+    _check_numpy_docstring("documented", documented)
+    with pytest.raises(AssertionError, match="parameters are not documented"):
+        _check_numpy_docstring("undocumented", undocumented)
 
 
 @pytest.mark.parametrize("fmt", FORMATS)

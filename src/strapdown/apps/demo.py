@@ -162,7 +162,7 @@ def write_csv(path, header: list[str], columns: np.ndarray) -> Path:
     Returns
     -------
     pathlib.Path
-        The file written.
+        ``path``, complete: values with 10 significant digits under one header line.
 
     Examples
     --------

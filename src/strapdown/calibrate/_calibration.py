@@ -274,7 +274,7 @@ def load(path) -> dict[str, Calibration]:
     Parameters
     ----------
     path : path-like
-        The file.
+        A JSON file of format version 1; another version, or any other file, is a ``ValueError``.
 
     Returns
     -------

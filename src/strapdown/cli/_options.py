@@ -13,6 +13,29 @@ CHUNK_ROWS = 1 << 18  # as strapdown.io.pipelines.CHUNK_ROWS (not imported: --he
 FORMATS = ("csv", "parquet", "hdf5", "mat")
 
 
+def choice_option(*decls: str, choices, help: str, default: str | None = None):
+    """An option that takes one of ``choices``; the first is the default unless ``default`` says otherwise."""
+    import click
+
+    choices = list(choices)
+    return click.option(
+        *decls,
+        type=click.Choice(choices),
+        default=choices[0] if default is None else default,
+        show_default=True,
+        help=help,
+    )
+
+
+def param_option(units: str):
+    """``-p/--param NAME=VALUE`` (repeatable) for an estimator's parameters; ``units`` says how angles are given."""
+    import click
+
+    return click.option(
+        "-p", "--param", "params", multiple=True, metavar="NAME=VALUE", help=f"Set a parameter (repeatable); {units}"
+    )
+
+
 def unit_option(kind: str, default_text: str):
     import click
 
@@ -58,11 +81,9 @@ def read_options(f, *, acc: bool = True, mag: bool = True):
             metavar="K",
             help="Largest time step allowed, in sample periods (0: no check).",
         ),
-        click.option(
+        choice_option(
             "--on-gap",
-            type=click.Choice(["error", "split", "restart"]),
-            default="error",
-            show_default=True,
+            choices=("error", "split", "restart"),
             help="At a gap over --max-gap: stop; write a file per segment; or start afresh, with a segment column.",
         ),
         click.option("--no-unit-check", is_flag=True, help="Do not check that magnitudes fit the units."),
@@ -116,28 +137,15 @@ def flight_options(gyro_option: str, gyro_default: str):
     import click
 
     opts = [
-        click.option(
-            "--scenario",
-            type=click.Choice(list(scenarios())),
-            default="hammerhead-loop",
-            show_default=True,
-            help="What is flown.",
-        ),
+        choice_option("--scenario", choices=scenarios(), default="hammerhead-loop", help="What is flown."),
         click.option("--rate", default=100.0, show_default=True, help="Sample rate, Hz."),
-        click.option(
+        choice_option(
             gyro_option,
-            type=click.Choice(["rate", "average", "increment", "rotvec"]),
+            choices=("rate", "average", "increment", "rotvec"),
             default=gyro_default,
-            show_default=True,
             help="What a gyro sample is.",
         ),
-        click.option(
-            "--imu",
-            type=click.Choice(["ideal", "consumer", "tactical"]),
-            default="ideal",
-            show_default=True,
-            help="Errors.",
-        ),
+        choice_option("--imu", choices=("ideal", "consumer", "tactical"), help="Errors."),
         click.option(
             "--seed", default=0, show_default=True, type=click.IntRange(min=0), help="Seed of the sensor errors."
         ),

@@ -15,6 +15,7 @@ from ._options import (
     list_params,
     one_or_many,
     output_spec,
+    param_option,
     parse_params,
     parse_q0,
     read_options,
@@ -83,14 +84,7 @@ def _list_params(ctx, param, value):
 @click.option(
     "-e", "--estimator", type=click.Choice(list(estimators())), default="attitude", show_default=True, is_eager=True
 )
-@click.option(
-    "-p",
-    "--param",
-    "params",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="Set a parameter (repeatable); angles and rates in degrees with the unit in the name: bias_limit_deg_s=5.",
-)
+@param_option("angles and rates in degrees with the unit in the name: bias_limit_deg_s=5.")
 @click.option(
     "--list-params",
     is_flag=True,

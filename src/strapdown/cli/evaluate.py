@@ -4,34 +4,29 @@ from __future__ import annotations
 
 import click
 
-from ._options import assignment, estimators, param_name, parse_params, parse_value, scaled, writable_file
+from ._options import (
+    assignment,
+    choice_option,
+    estimators,
+    param_name,
+    param_option,
+    parse_params,
+    parse_value,
+    scaled,
+    writable_file,
+)
 
 
 @click.command()
 @click.argument("folder", type=click.Path(exists=True, file_okay=False))
 @click.option("-e", "--estimator", type=click.Choice(list(estimators())), default="tilt", show_default=True)
 @click.option("--9d", "nine_d", is_flag=True, help="Give the estimator the magnetometer.")
-@click.option(
-    "-p",
-    "--param",
-    "params",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="Set a parameter (repeatable); angles and rates also in degrees: NAME_deg=..., NAME_deg_s=....",
-)
+@param_option("angles and rates also in degrees: NAME_deg=..., NAME_deg_s=....")
 @click.option("-g", "--grid", multiple=True, metavar="NAME=V1,V2,...", help="Grid-search these values (repeatable).")
-@click.option(
-    "--objective",
-    type=click.Choice(["inclination", "total", "heading"]),
-    default="inclination",
-    show_default=True,
-    help="Mean RMSE the grid search ranks on.",
-)
-@click.option(
+@choice_option("--objective", choices=("inclination", "total", "heading"), help="Mean RMSE the grid search ranks on.")
+@choice_option(
     "--start",
-    type=click.Choice(["first-sample", "broad-example"]),
-    default="first-sample",
-    show_default=True,
+    choices=("first-sample", "broad-example"),
     help="Initial attitude: the estimator's own, or BROAD's example code's (9D, to reproduce it).",
 )
 @click.option("--trials", default=None, help="Comma-separated trial names (default: every .mat in FOLDER).")

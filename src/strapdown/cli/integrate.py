@@ -6,6 +6,7 @@ import click
 
 from ._options import (
     CHUNK_ROWS,
+    choice_option,
     columns_spec,
     frame_options,
     inputs_argument,
@@ -44,11 +45,9 @@ def kwargs(p: dict) -> dict:
     type=click.Choice(methods()),
     help="Propagation method (default: exact; coning2 for increments).",
 )
-@click.option(
+@choice_option(
     "--samples",
-    type=click.Choice(["rate", "average", "increment"]),
-    default="rate",
-    show_default=True,
+    choices=("rate", "average", "increment"),
     help="What a gyro sample is: the rate at its row's time, the mean rate or the angle over its step.",
 )
 @click.option("--rate-frame", type=click.Choice(["body", "reference"]), default="body", show_default=True)

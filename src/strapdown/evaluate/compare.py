@@ -108,7 +108,7 @@ class Comparison:
         Returns
         -------
         MethodResult
-            Its run.
+            Its attitudes, errors against the truth and timing; ``KeyError`` for a method not compared.
 
         Examples
         --------

@@ -12,6 +12,9 @@ What every figure obeys:
   not a saw tooth, and they are not drawn near gimbal lock (where only their sum or difference is defined):
   those stretches are shaded and the figure says so (:func:`angles_for_display`);
 * a set of figures is written all or nothing (:func:`save_figures`): when one fails, none is left behind.
+
+The functions that draw take ``plt``, the ``matplotlib.pyplot`` module (:func:`pyplot` imports it, headless),
+and the times ``t`` of shape (n,) that the x axis shows.
 """
 
 from __future__ import annotations
@@ -219,10 +222,6 @@ def save_figures(figures: dict, dpi: int = _DPI) -> list[Path]:
 def pyplot():
     """matplotlib.pyplot on the Agg backend (files, no window); an ImportError naming the ``plot`` extra.
 
-    Parameters
-    ----------
-    None
-
     Returns
     -------
     module
@@ -283,10 +282,8 @@ def angles_figure(plt, t, truth, series, angles: Angles, margin_deg: float, xlab
 
     Parameters
     ----------
-    plt : module
-        ``matplotlib.pyplot`` (:func:`pyplot`).
-    t : array_like, shape (n,)
-        Times.
+    plt, t
+        Pyplot and the times (module notes).
     truth : array_like, shape (n, 4), optional
         The true attitudes, drawn first and wide; None for none.
     series : dict of str to array_like, shape (n, 4)
@@ -358,10 +355,8 @@ def time_series_figure(plt, t, lines, ylabel: str, xlabel: str, title: str):
 
     Parameters
     ----------
-    plt : module
-        ``matplotlib.pyplot`` (:func:`pyplot`).
-    t : array_like, shape (n,)
-        Times.
+    plt, t
+        As for :func:`angles_figure`.
     lines : sequence of (str, array_like, dict)
         Label, values (n,) or (n, k), and the line's style (:func:`line_styles`).
     ylabel, xlabel, title : str

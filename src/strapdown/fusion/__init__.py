@@ -13,6 +13,19 @@ ends at it, and outputs are in ``frame`` (ENU by default).
 * :class:`Mahony`: Mahony's filter with integral bias (6D/9D);
 * :class:`Madgwick`: Madgwick's gradient-descent filter (6D/9D), with the original code's variant for
   reproducing published results.
+
+Conventions
+-----------
+Stated here once; the docstrings of the filters say only what differs.
+
+* A filter class takes ``params`` (its parameter dataclass; the defaults when None) and the keywords ``q0``, the
+  initial attitude (sensor to ``frame``; by default from the first sample: the tilt from the accelerometer, the
+  heading from the magnetometer), and ``frame``, the reference frame of ``q0`` and of the outputs (any z-up or
+  z-down frame of :mod:`strapdown.rotations.frames`).
+* ``update(gyro, acc, mag=None, *, dt=None, t=None)`` takes (N, 3) arrays: the angular rate in rad/s, the
+  specific force in m/s² (+g along body up at rest) and the magnetic field in any unit (only its direction is
+  used; 9D when given); ``dt`` (seconds per sample, a scalar or one per sample) or ``t`` (the sample times).
+* The batch function runs the class over whole arrays with the same arguments.
 """
 
 import sys as _sys

@@ -3,9 +3,7 @@
 The state is one float64 vector ``s`` (offsets below, named in attitude.py) plus the 6x6 covariance ``P`` of the
 gyro bias and scale-factor errors; both are updated in place, so any chunking gives the same result.
 
-The kernels allow fused multiply-adds (``fastmath={"contract"}``) and nothing else of fastmath: each is one
-correctly rounded operation, nothing is reassociated, so any chunking still gives bit-identical results; it makes
-the per-sample recursion about a tenth faster.
+Fused multiply-adds only, as :mod:`._kernels_numba` explains.
 """
 
 from __future__ import annotations
@@ -314,18 +312,11 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
         tb += dt
         if tb >= t_block * (1.0 - 1e-9):  # tolerant of rounding in summed intervals
             sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
-            if use_mag:
-                _sums9(out, gyro, mag, dts, start, k + 1, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
-            else:
-                _sums(out, gyro, dts, start, k + 1, sums, squares)
-            _rest(gyro, acc, dts, start, k + 1, p, rs, flags, squares)
+            _samples(out, gyro, acc, mag, use_mag, dts, start, k + 1, p, s, sums, squares, flags, rs)
             # never with the sizes _run gives (no writes out of bounds)
             if n_seg >= seg_end.shape[0] - 1 or n_seg >= seg_val.shape[1] - 1:
                 raise ValueError("AttitudeEstimator: more blocks than the segment buffers hold")
-            seg_end[n_seg] = k + 1
-            seg_val[0, n_seg, 0], seg_val[0, n_seg, 1], seg_val[0, n_seg, 2] = bx, by, bz
-            seg_val[1, n_seg, 0], seg_val[1, n_seg, 1], seg_val[1, n_seg, 2] = sg0, sg1, sg2
-            n_seg += 1
+            n_seg = _segment(seg_end, seg_val, n_seg, k + 1, bx, by, bz, sg0, sg1, sg2)
             rest, rr = rs[6], rs[11]
             start = k + 1
             # the correction's rotation over the block, q_c ⊗ q_c,start*: the rate the bias regression explains
@@ -376,16 +367,9 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
             lin_t = lin_x = lin_y = lin_z = 0.0
     # the unfinished block: its sums so far are kept in the state
     sums[26], sums[27], sums[28], sums[29] = lin_t, lin_x, lin_y, lin_z
-    if use_mag:
-        _sums9(out, gyro, mag, dts, start, n, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
-    else:
-        _sums(out, gyro, dts, start, n, sums, squares)
-    _rest(gyro, acc, dts, start, n, p, rs, flags, squares)
+    _samples(out, gyro, acc, mag, use_mag, dts, start, n, p, s, sums, squares, flags, rs)
     if start < n:
-        seg_end[n_seg] = n
-        seg_val[0, n_seg, 0], seg_val[0, n_seg, 1], seg_val[0, n_seg, 2] = bx, by, bz
-        seg_val[1, n_seg, 0], seg_val[1, n_seg, 1], seg_val[1, n_seg, 2] = sg0, sg1, sg2
-        n_seg += 1
+        n_seg = _segment(seg_end, seg_val, n_seg, n, bx, by, bz, sg0, sg1, sg2)
     s[QG], s[QG + 1], s[QG + 2], s[QG + 3] = gw, gx, gy, gz
     s[QC], s[QC + 1], s[QC + 2] = rw * rinv, r1 * rinv, r2 * rinv
     s[AF], s[AF + 1], s[AF + 2] = vx, vy, vz
@@ -412,6 +396,25 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
     s[QN] = n_raw
     return n_seg
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _samples(out, gyro, acc, mag, use_mag, dts, j0, j1, p, s, sums, squares, flags, rs):
+    """The loops over samples j0..j1-1 of a block (or of its part in this chunk): its sums, rest detection."""
+    if use_mag:
+        _sums9(out, gyro, mag, dts, j0, j1, sums, squares, flags, s[DELTA], s[DIST] > 0.0)
+    else:
+        _sums(out, gyro, dts, j0, j1, sums, squares)
+    _rest(gyro, acc, dts, j0, j1, p, rs, flags, squares)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _segment(seg_end, seg_val, n_seg, end, bx, by, bz, sg0, sg1, sg2):
+    """Write segment n_seg (samples up to ``end``: its bias and their standard deviations); returns n_seg + 1."""
+    seg_end[n_seg] = end
+    seg_val[0, n_seg, 0], seg_val[0, n_seg, 1], seg_val[0, n_seg, 2] = bx, by, bz
+    seg_val[1, n_seg, 0], seg_val[1, n_seg, 1], seg_val[1, n_seg, 2] = sg0, sg1, sg2
+    return n_seg + 1
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
@@ -444,12 +447,8 @@ def _rest(gyro, acc, dts, j0, j1, p, rs, flags, squares):
             ax, ay, az = a0, a1, a2
         ex, ey, ez = wx - rgx, wy - rgy, wz - rgz
         fx, fy, fz = ax - rax, ay - ray, az - raz
-        rgx += rr * ex
-        rgy += rr * ey
-        rgz += rr * ez
-        rax += rr * fx
-        ray += rr * fy
-        raz += rr * fz
+        rgx, rgy, rgz = rgx + rr * ex, rgy + rr * ey, rgz + rr * ez
+        rax, ray, raz = rax + rr * fx, ray + rr * fy, raz + rr * fz
         dg = keep2 * (ex * ex + ey * ey + ez * ez)
         da = keep2 * (fx * fx + fy * fy + fz * fz)
         rv += rr * (dg - rv)
@@ -466,47 +465,69 @@ def _rest(gyro, acc, dts, j0, j1, p, rs, flags, squares):
     squares[1] = acc2
 
 
+@nb.njit(cache=True, inline="always", error_model="numpy", fastmath={"contract"})
+def _add6(out, gyro, j, dt, u):
+    """Sample j's terms of the 6D block sums (_sums, _sums9), added to ``u`` = (u0 ... u11, w2, gyr2).
+
+    The horizontal rows of R(q) for the 6D attitude in ``out``, time-weighted, the same times diag(omega),
+    |omega|² dt and |omega|².  Returns the new sums, then what _sums9 goes on with: the attitude, the rate, 2 dt
+    and the rows.
+    """
+    u0, u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, w2, gyr2 = u
+    qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
+    wx, wy, wz = gyro[j, 0], gyro[j, 1], gyro[j, 2]
+    t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
+    r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
+    r01 = (qx * qy - qw * qz) * t2
+    r02 = (qx * qz + qw * qy) * t2
+    r10 = (qx * qy + qw * qz) * t2
+    r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
+    r12 = (qy * qz - qw * qx) * t2
+    u0 += r00
+    u1 += r01
+    u2 += r02
+    u3 += r10
+    u4 += r11
+    u5 += r12
+    u6 += r00 * wx
+    u7 += r01 * wy
+    u8 += r02 * wz
+    u9 += r10 * wx
+    u10 += r11 * wy
+    u11 += r12 * wz
+    w = wx * wx + wy * wy + wz * wz
+    w2 += w * dt
+    gyr2 += w
+    u = (u0, u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, w2, gyr2)
+    return u, qw, qx, qy, qz, wx, wy, wz, t2, r00, r01, r02, r10, r11, r12
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _sums6(sums, squares):
+    """The running 6D sums of a block as _add6 continues them (in order: any chunking gives the same sums)."""
+    u0, u1, u2, u3, u4, u5, u6, u7 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5], sums[6], sums[7]
+    return u0, u1, u2, u3, u4, u5, u6, u7, sums[8], sums[9], sums[10], sums[11], sums[24], squares[0]
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _store6(sums, squares, u):
+    """Put _add6's sums back (the inverse of _sums6)."""
+    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u[0], u[1], u[2], u[3], u[4], u[5]
+    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11] = u[6], u[7], u[8], u[9], u[10], u[11]
+    sums[24], squares[0] = u[12], u[13]
+
+
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def _sums(out, gyro, dts, j0, j1, sums, squares):
-    """Add samples j0..j1-1 to the block sums, time-weighted (6D; 9D: _sums9).
+    """Add samples j0..j1-1 to the block sums, time-weighted (6D; 9D: _sums9): _add6 for each.
 
-    The horizontal rows of R(q) for the 6D attitudes in ``out``, the same times diag(omega), |omega|².  The rows
-    times the bias-and-scale correction are formed at the block update from these.
+    The rows times the bias-and-scale correction are formed at the block update from these.
     """
     last = np.uintp(dts.shape[0] - 1)  # unsigned indices: no wrap-around code for negative ones
-    # continue the block's running sums in order, so that any chunking gives bit-identical sums
-    u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
-    u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
-    gyr2 = squares[0]
+    u = _sums6(sums, squares)
     for j in range(np.uintp(j0), np.uintp(j1)):
-        dt = dts[min(j, last)]
-        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
-        wx, wy, wz = gyro[j, 0], gyro[j, 1], gyro[j, 2]
-        t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
-        r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
-        r01 = (qx * qy - qw * qz) * t2
-        r02 = (qx * qz + qw * qy) * t2
-        r10 = (qx * qy + qw * qz) * t2
-        r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
-        r12 = (qy * qz - qw * qx) * t2
-        u0 += r00
-        u1 += r01
-        u2 += r02
-        u3 += r10
-        u4 += r11
-        u5 += r12
-        u6 += r00 * wx
-        u7 += r01 * wy
-        u8 += r02 * wz
-        u9 += r10 * wx
-        u10 += r11 * wy
-        u11 += r12 * wz
-        w = wx * wx + wy * wy + wz * wz
-        w2 += w * dt
-        gyr2 += w
-    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
-    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
-    squares[0] = gyr2
+        u = _add6(out, gyro, j, dts[min(j, last)], u)[0]
+    _store6(sums, squares, u)
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
@@ -518,43 +539,19 @@ def _sums9(out, gyro, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
     the loop stays one straight run).  Then the 6D attitude in ``out`` becomes the 9D one, turned by the heading
     offset: q = q_z(delta) ⊗ q_6D, flagged while the field is disturbed.
 
-    The 6D part repeats _sums line for line: one loop with the 9D part behind a ``use_mag`` branch measured 3 %
-    slower in 6D (and changes 9D's rounding), so each mode has its straight loop.
+    The 6D part is _sums's _add6: one loop with the 9D part behind a ``use_mag`` branch measured 3 % slower in 6D
+    (and changes 9D's rounding), so each mode has its straight loop.
     """
     last = np.uintp(dts.shape[0] - 1)  # unsigned indices: no wrap-around code for negative ones
     cd = math.cos(0.5 * delta)
     sd = math.sin(0.5 * delta)
-    u0, u1, u2, u3, u4, u5 = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
-    u6, u7, u8, u9, u10, u11, w2 = sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24]
+    u = _sums6(sums, squares)
     v0, v1, v2, v3, v4, v5 = sums[14], sums[15], sums[16], sums[17], sums[18], sums[19]
     h0, h1, h2, tm = sums[21], sums[22], sums[23], sums[25]
-    gyr2, mag2 = squares[0], squares[2]
+    mag2 = squares[2]
     for j in range(np.uintp(j0), np.uintp(j1)):
         dt = dts[min(j, last)]
-        qw, qx, qy, qz = out[j, 0], out[j, 1], out[j, 2], out[j, 3]
-        wx, wy, wz = gyro[j, 0], gyro[j, 1], gyro[j, 2]
-        t2 = 2.0 * dt  # (2 a) dt = a (2 dt) exactly: a product fewer per entry
-        r00 = (1.0 - 2.0 * (qy * qy + qz * qz)) * dt
-        r01 = (qx * qy - qw * qz) * t2
-        r02 = (qx * qz + qw * qy) * t2
-        r10 = (qx * qy + qw * qz) * t2
-        r11 = (1.0 - 2.0 * (qx * qx + qz * qz)) * dt
-        r12 = (qy * qz - qw * qx) * t2
-        u0 += r00
-        u1 += r01
-        u2 += r02
-        u3 += r10
-        u4 += r11
-        u5 += r12
-        u6 += r00 * wx
-        u7 += r01 * wy
-        u8 += r02 * wz
-        u9 += r10 * wx
-        u10 += r11 * wy
-        u11 += r12 * wz
-        w = wx * wx + wy * wy + wz * wz
-        w2 += w * dt
-        gyr2 += w
+        u, qw, qx, qy, qz, wx, wy, wz, t2, r00, r01, r02, r10, r11, r12 = _add6(out, gyro, j, dt, u)
         mx, my, mz = mag[j, 0], mag[j, 1], mag[j, 2]
         mag2 += mx * mx + my * my + mz * mz  # NaN for a missing sample, as acc in _rest
         present = mx == mx
@@ -581,11 +578,10 @@ def _sums9(out, gyro, mag, dts, j0, j1, sums, squares, flags, delta, disturbed):
         out[j, 3] = cd * qz + sd * qw
         if disturbed:
             flags[j] |= FLAG_MAG_DISTURBED
-    sums[0], sums[1], sums[2], sums[3], sums[4], sums[5] = u0, u1, u2, u3, u4, u5
-    sums[6], sums[7], sums[8], sums[9], sums[10], sums[11], sums[24] = u6, u7, u8, u9, u10, u11, w2
+    _store6(sums, squares, u)
     sums[14], sums[15], sums[16], sums[17], sums[18], sums[19] = v0, v1, v2, v3, v4, v5
     sums[21], sums[22], sums[23], sums[25] = h0, h1, h2, tm
-    squares[0], squares[2] = gyr2, mag2
+    squares[2] = mag2
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})

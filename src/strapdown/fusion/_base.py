@@ -42,15 +42,14 @@ class Estimator:
 
     Parameters
     ----------
-    params : dataclass
-        The filter's parameter object.
-    q0 : array_like, shape (4,), optional
-        Initial attitude (sensor to ``frame``); by default it comes from the first sample(s).
-    frame : str
-        Reference frame of inputs ``q0`` and of the outputs: any z-up or z-down frame of :mod:`strapdown.rotations.frames`.
+    params : dataclass, optional
+        The filter's parameter object; by default ``params_class()``.
+    q0, frame
+        As every filter takes them (:mod:`strapdown.fusion`).
     """
 
     natural_frame = "ENU"
+    params_class: type | None = None  # the parameter dataclass: its defaults when no params are given
     estimates_bias = False
     reports_flags = False  # True: the Estimate carries per-sample flags
     # True: NaN rows of acc and mag mean "no sample" (sensors at different rates); such an estimator must take its
@@ -68,8 +67,8 @@ class Estimator:
     # interval is dts[min(k, len(dts) - 1)]), instead of a per-sample array written and read only to repeat it
     compact_intervals = False
 
-    def __init__(self, params, *, q0=None, frame: str = "ENU"):
-        self.params = params
+    def __init__(self, params=None, *, q0=None, frame: str = "ENU"):
+        self.params = self.params_class() if params is None else params
         self.frame = check_frame(frame, "frame", "reference")
         self._to_out = frame_quaternion(self.natural_frame, frame)
         self._to_in = self._to_out * np.array([1.0, -1.0, -1.0, -1.0])
@@ -161,17 +160,10 @@ class Estimator:
 
         Parameters
         ----------
-        gyro : array_like, shape (N, 3)
-            Angular rate, rad/s, sensor axes.
-        acc : array_like, shape (N, 3)
-            Specific force, m/s² (+g along body up at rest).
+        gyro, acc, dt, t
+            The samples and their timing (:mod:`strapdown.fusion`); ``t`` strictly increasing.
         mag : array_like, shape (N, 3), optional
-            Magnetic field, any unit (only its direction is used); 9D when given.  A filter started with
-            (or without) magnetometer data must be fed the same way.
-        dt : float or array_like of shape (N,), optional
-            Seconds per sample.
-        t : array_like, shape (N,), optional
-            Sample times, seconds, strictly increasing.
+            9D when given.  A filter started with (or without) magnetometer data must be fed the same way.
         **inputs
             Filter-specific inputs (see the subclass).
 
@@ -272,7 +264,8 @@ class Estimator:
         return initial_attitude(a, m, self.natural_frame)
 
     def _new_state(self, q, gyro, acc, mag, dts, extra_in) -> dict:
-        raise NotImplementedError
+        # the attitude alone: a filter with more state (bias, filters) extends this and its _state_layout
+        return {"q": q.copy()}
 
     def _run(self, gyro, acc, mag, dts, extra_in) -> Estimate:
         raise NotImplementedError
@@ -319,6 +312,60 @@ def _checked_state(value: dict, shapes: dict, unit_keys: tuple) -> dict:
 
 def _shape_text(shape: tuple) -> str:
     return "a number" if shape == () else f"an array of shape {shape}"
+
+
+def nonnegative(params, names: tuple[str, ...], what: str) -> None:
+    """Raise unless each named field of a parameter object is finite and ≥ 0 (``what``: "gain", ...)."""
+    for name in names:
+        v = getattr(params, name)
+        if not (np.isfinite(v) and v >= 0):
+            raise ValueError(f"{name} must be a non-negative {what}, got {v!r}")
+
+
+_BATCH_DOC = """Run :class:`{cls}` over whole arrays: the batch form of the streaming filter.
+
+Parameters
+----------
+gyro, acc, mag, dt, t
+    The samples, as for ``update`` (:mod:`strapdown.fusion`).
+params : {params}, optional
+    The filter's parameters; their defaults when None.
+q0, frame
+    As for :class:`{cls}`.
+
+Returns
+-------
+Estimate
+    Attitudes, one per sample{outputs}.
+
+Examples
+--------
+>>> import numpy as np
+>>> from strapdown.fusion import {name}
+>>> est = {name}(np.zeros((5, 3)), np.tile([0.0, 0.0, 9.81], (5, 1)), dt=0.01)
+>>> est.q.shape
+(5, 4)
+"""
+
+
+def batch_function(cls: type):
+    """The batch function of a filter class that takes ``(params, q0=, frame=)`` and updates on arrays alone.
+
+    ``mahony = batch_function(Mahony)`` runs ``Mahony(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt,
+    t=t)``, under the lower-case name of the class, documented (and doctested) in the class's module.
+    """
+
+    def run(gyro, acc, mag=None, *, dt=None, t=None, params=None, q0=None, frame: str = "ENU") -> Estimate:
+        return cls(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)
+
+    name = cls.__name__.lower()
+    outputs = (", with the bias estimates" if cls.estimates_bias else "") + (
+        ", and the accelerometer rejection flags" if cls.reports_flags else ""
+    )
+    run.__name__ = run.__qualname__ = name
+    run.__module__ = cls.__module__
+    run.__doc__ = _BATCH_DOC.format(cls=cls.__name__, params=cls.params_class.__name__, name=name, outputs=outputs)
+    return renamed(gyr="gyro")(run)
 
 
 def params_of(cls, params, owner: str):

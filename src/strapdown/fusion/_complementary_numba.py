@@ -6,7 +6,7 @@ import math
 
 import numba as nb
 
-from ._kernels_numba import left_step, right_step, rotate, tilt_to_vertical
+from ._kernels_numba import left_step, right_step, rotate, tilt_to_vertical, unit3
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -17,20 +17,14 @@ def run(gyro, acc, mag, use_mag, dts, tau_acc, tau_mag, gravity, acc_gate, q, ou
     that turns the measured up R â onto z (an axis in the horizontal plane: the heading is untouched), and in
     9D a fraction 1 - exp(-dt/τ_mag) of the heading that turns the horizontal field onto north (+y), about z.
     """
-    w = q[0]
-    x = q[1]
-    y = q[2]
-    z = q[3]
+    w, x, y, z = q[0], q[1], q[2], q[3]
     for k in range(gyro.shape[0]):
         dt = dts[k]
         w, x, y, z = right_step(w, x, y, z, gyro[k, 0] * dt, gyro[k, 1] * dt, gyro[k, 2] * dt)
         flag = 0
-        ax = acc[k, 0]
-        ay = acc[k, 1]
-        az = acc[k, 2]
-        an = math.sqrt(ax * ax + ay * ay + az * az)
+        ax, ay, az, an = unit3(acc[k, 0], acc[k, 1], acc[k, 2])
         if an > 0.0 and abs(an - gravity) <= acc_gate:
-            ux, uy, uz = rotate(w, x, y, z, ax / an, ay / an, az / an)
+            ux, uy, uz = rotate(w, x, y, z, ax, ay, az)
             cx, cy = tilt_to_vertical(ux, uy, uz)
             g = 1.0 - math.exp(-dt / tau_acc) if tau_acc > 0.0 else 1.0
             w, x, y, z = left_step(w, x, y, z, g * cx, g * cy, 0.0)
@@ -42,10 +36,7 @@ def run(gyro, acc, mag, use_mag, dts, tau_acc, tau_mag, gravity, acc_gate, q, ou
                 heading_error = math.atan2(mx, my)  # angle of the horizontal field east of north
                 g = 1.0 - math.exp(-dt / tau_mag) if tau_mag > 0.0 else 1.0
                 w, x, y, z = left_step(w, x, y, z, 0.0, 0.0, g * heading_error)
-        out[k, 0] = w
-        out[k, 1] = x
-        out[k, 2] = y
-        out[k, 3] = z
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = w, x, y, z
         flags[k] = flag
     q[0] = w
     q[1] = x

@@ -1,4 +1,10 @@
-"""Small scalar helpers shared by the fusion kernels (private)."""
+"""Small scalar helpers shared by the fusion kernels (private).
+
+The filter kernels (:mod:`._attitude_numba`, :mod:`._tilt_numba`) allow fused multiply-adds
+(``fastmath={"contract"}``) and nothing else of fastmath: each is one correctly rounded operation, nothing is
+reassociated, so any chunking still gives bit-identical results; it makes the per-sample recursion about a tenth
+faster.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +14,15 @@ import numba as nb
 
 from ..propagate._integrate_numba import TAYLOR_SHORT, exp_half_minus_one
 from ..rotations._quaternion_numba import qmul
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def unit3(x, y, z):
+    """A sensor sample's direction and length: ``(x, y, z) / n, n`` with n = |v|, or ``(x, y, z), 0`` for v = 0."""
+    n = math.sqrt(x * x + y * y + z * z)
+    if n > 0.0:
+        return x / n, y / n, z / n, n
+    return x, y, z, n
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -26,18 +41,24 @@ def rotate_back(w, x, y, z, vx, vy, vz):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def _stepped(w, x, y, z, px, py, pz, left):
+    """The step q ⊗ exp(φ/2) (``left``: exp(φ/2) ⊗ q) as q + q ⊗ (exp(φ/2) - 1), not normalised."""
+    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
+    if left:
+        ew, ex, ey, ez = qmul(dw, dx, dy, dz, w, x, y, z)
+    else:
+        ew, ex, ey, ez = qmul(w, x, y, z, dw, dx, dy, dz)
+    return w + ew, x + ex, y + ey, z + ez
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def right_step(w, x, y, z, px, py, pz):
     """Right step q ⊗ exp(φ/2), normalised: the exact body-rate update (the integrator's increment form).
 
     The step keeps |q| = 1 to rounding, so the series normalisation q (3 - |q|²)/2 (nabbla part 9) is exact to
     rounding and needs no square root; it also pulls any |q| near 1 back quadratically.
     """
-    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
-    ew, ex, ey, ez = qmul(w, x, y, z, dw, dx, dy, dz)
-    w += ew
-    x += ex
-    y += ey
-    z += ez
+    w, x, y, z = _stepped(w, x, y, z, px, py, pz, False)
     f = 1.5 - 0.5 * (w * w + x * x + y * y + z * z)
     return w * f, x * f, y * f, z * f
 
@@ -82,12 +103,7 @@ def renormalised(w, x, y, z):
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def left_step(w, x, y, z, px, py, pz):
     """exp(φ/2) ⊗ q, normalised: a rotation by φ in the reference frame."""
-    dw, dx, dy, dz = exp_half_minus_one(px, py, pz)
-    ew, ex, ey, ez = qmul(dw, dx, dy, dz, w, x, y, z)
-    w += ew
-    x += ex
-    y += ey
-    z += ez
+    w, x, y, z = _stepped(w, x, y, z, px, py, pz, True)
     inv = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
     return w * inv, x * inv, y * inv, z * inv
 

@@ -6,6 +6,8 @@ import math
 
 import numba as nb
 
+from ._kernels_numba import unit3
+
 
 @nb.njit(cache=True, error_model="numpy")
 def run(gyro, acc, mag, use_mag, dts, beta, slip, q, out):
@@ -18,10 +20,7 @@ def run(gyro, acc, mag, use_mag, dts, beta, slip, q, out):
     assignment of b_x and b_z to the variables named _2bx and _2bz (its predicted field is half the length it
     should be): that reproduces the published BROAD reference.
     """
-    q0 = q[0]
-    q1 = q[1]
-    q2 = q[2]
-    q3 = q[3]
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
     for k in range(gyro.shape[0]):
         gx = gyro[k, 0]
         gy = gyro[k, 1]
@@ -30,14 +29,8 @@ def run(gyro, acc, mag, use_mag, dts, beta, slip, q, out):
         d1 = 0.5 * (q0 * gx + q2 * gz - q3 * gy)
         d2 = 0.5 * (q0 * gy - q1 * gz + q3 * gx)
         d3 = 0.5 * (q0 * gz + q1 * gy - q2 * gx)
-        ax = acc[k, 0]
-        ay = acc[k, 1]
-        az = acc[k, 2]
-        an = math.sqrt(ax * ax + ay * ay + az * az)
+        ax, ay, az, an = unit3(acc[k, 0], acc[k, 1], acc[k, 2])
         if an > 0.0:
-            ax /= an
-            ay /= an
-            az /= an
             f1 = 2.0 * (q1 * q3 - q0 * q2) - ax
             f2 = 2.0 * (q0 * q1 + q2 * q3) - ay
             f3 = 2.0 * (0.5 - q1 * q1 - q2 * q2) - az
@@ -46,14 +39,8 @@ def run(gyro, acc, mag, use_mag, dts, beta, slip, q, out):
             s2 = -2.0 * q0 * f1 + 2.0 * q3 * f2 - 4.0 * q2 * f3
             s3 = 2.0 * q1 * f1 + 2.0 * q2 * f2
             if use_mag:
-                mx = mag[k, 0]
-                my = mag[k, 1]
-                mz = mag[k, 2]
-                mn = math.sqrt(mx * mx + my * my + mz * mz)
+                mx, my, mz, mn = unit3(mag[k, 0], mag[k, 1], mag[k, 2])
                 if mn > 0.0:  # a zero field (sensor dropout) falls back to 6D, as the original code does
-                    mx /= mn
-                    my /= mn
-                    mz /= mn
                     # h = R(q) m: the measured field in the earth frame
                     hx = mx * (q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3) + 2.0 * my * (q1 * q2 - q0 * q3)
                     hx += 2.0 * mz * (q1 * q3 + q0 * q2)
@@ -87,10 +74,7 @@ def run(gyro, acc, mag, use_mag, dts, beta, slip, q, out):
         q1 *= inv
         q2 *= inv
         q3 *= inv
-        out[k, 0] = q0
-        out[k, 1] = q1
-        out[k, 2] = q2
-        out[k, 3] = q3
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = q0, q1, q2, q3
     q[0] = q0
     q[1] = q1
     q[2] = q2

@@ -1,8 +1,6 @@
 """Numba kernel of :mod:`strapdown.fusion.tilt` (private).
 
-The kernels allow fused multiply-adds (``fastmath={"contract"}``) and nothing else of fastmath: each is one
-correctly rounded operation, nothing is reassociated, so any chunking still gives bit-identical results; it makes
-the per-sample recursion about a tenth faster.
+Fused multiply-adds only, as :mod:`._kernels_numba` explains.
 """
 
 from __future__ import annotations

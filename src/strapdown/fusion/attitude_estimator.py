@@ -317,11 +317,6 @@ class AttitudeEstimator(Estimator):
     ----------
     params : AttitudeParams or mapping, optional
         Time constants, noise densities and thresholds (a mapping overrides the defaults by name).
-    q0 : array_like, shape (4,), optional
-        Initial attitude (sensor to ``frame``); by default from the first accelerometer (and magnetometer)
-        sample.
-    frame : str
-        Reference frame of ``q0`` and of the outputs (z up or down).
 
     Notes
     -----
@@ -367,14 +362,8 @@ class AttitudeEstimator(Estimator):
 
         Parameters
         ----------
-        gyro : array_like, shape (N, 3)
-            Angular rate, rad/s.
-        acc : array_like, shape (N, 3)
-            Specific force, m/s² (NaN rows: no sample).
-        mag : array_like, shape (N, 3), optional
-            Magnetic field, any unit (NaN rows: no sample); 9D when given.
-        dt, t : optional
-            Seconds per sample, or sample times.
+        gyro, acc, mag, dt, t
+            As for every filter (:mod:`strapdown.fusion`); a NaN row of ``acc`` or ``mag`` is no sample.
         known_acc : array_like, shape (N, 3), optional
             Kinematic acceleration to subtract from ``acc``, sensor axes, m/s²: for a body whose acceleration is
             known from elsewhere (air data, wheel speed, GNSS), e.g. an aircraft in a coordinated turn, where the
@@ -489,27 +478,15 @@ def attitude(
 
     Parameters
     ----------
-    gyro : array_like, shape (N, 3)
-        Angular rate, rad/s.
-    acc : array_like, shape (N, 3)
-        Specific force, m/s² (NaN rows: no sample).
-    mag : array_like, shape (N, 3), optional
-        Magnetic field, any unit (NaN rows: no sample); 9D when given.
-    dt, t : optional
-        Seconds per sample, or sample times.
-    params : AttitudeParams or mapping, optional
-        Parameters (a mapping overrides the defaults by name).
-    q0 : array_like, shape (4,), optional
-        Initial attitude.
-    frame : str
-        Reference frame.
-    known_acc : array_like, shape (N, 3), optional
-        Kinematic acceleration to subtract from ``acc``, m/s².
+    gyro, acc, mag, dt, t, known_acc
+        As for :meth:`AttitudeEstimator.update`.
+    params, q0, frame
+        As for :class:`AttitudeEstimator`.
 
     Returns
     -------
     Estimate
-        Attitudes, bias, its standard deviation (``extra["bias_sigma"]``) and flags.
+        As from :meth:`AttitudeEstimator.update`.
 
     Examples
     --------

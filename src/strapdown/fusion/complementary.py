@@ -13,8 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._support.renamed import renamed
-from ._base import Estimator
+from ._base import Estimator, batch_function, nonnegative
 from ._inputs import GRAVITY
 from .estimate import Estimate
 
@@ -40,10 +39,7 @@ class ComplementaryParams:
     acc_gate: float = np.inf
 
     def __post_init__(self):
-        for name in ("tau_acc", "tau_mag"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a non-negative time constant in seconds, got {v!r}")
+        nonnegative(self, ("tau_acc", "tau_mag"), "time constant in seconds")
         if not self.acc_gate > 0:
             raise ValueError(f"acc_gate must be positive (m/s²), got {self.acc_gate!r}")
 
@@ -55,10 +51,6 @@ class Complementary(Estimator):
     ----------
     params : ComplementaryParams, optional
         Time constants and gate.
-    q0 : array_like, shape (4,), optional
-        Initial attitude (sensor to ``frame``); by default from the first sample.
-    frame : str
-        Reference frame of ``q0`` and of the outputs.
 
     Examples
     --------
@@ -71,13 +63,8 @@ class Complementary(Estimator):
     True
     """
 
+    params_class = ComplementaryParams
     reports_flags = True
-
-    def __init__(self, params: ComplementaryParams | None = None, *, q0=None, frame: str = "ENU"):
-        super().__init__(params or ComplementaryParams(), q0=q0, frame=frame)
-
-    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
-        return {"q": q.copy()}
 
     def _run(self, gyro, acc, mag, dts, extra_in):
         from ._complementary_numba import run
@@ -91,39 +78,4 @@ class Complementary(Estimator):
         return Estimate(q=out, frame=self.natural_frame, flags=flags)
 
 
-@renamed(gyr="gyro")
-def complementary(
-    gyro, acc, mag=None, *, dt=None, t=None, params: ComplementaryParams | None = None, q0=None, frame: str = "ENU"
-) -> Estimate:
-    """Run the quaternion complementary filter over whole arrays (the batch form of :class:`Complementary`).
-
-    Parameters
-    ----------
-    gyro, acc : array_like, shape (N, 3)
-        Angular rate (rad/s) and specific force (m/s²).
-    mag : array_like, shape (N, 3), optional
-        Magnetic field; 9D when given.
-    dt : float or array_like, optional
-        Seconds per sample.
-    t : array_like, shape (N,), optional
-        Sample times.
-    params : ComplementaryParams, optional
-        Time constants.
-    q0 : array_like, shape (4,), optional
-        Initial attitude.
-    frame : str
-        Reference frame.
-
-    Returns
-    -------
-    Estimate
-        Attitudes, one per sample, and the accelerometer rejection flags.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.fusion import complementary
-    >>> complementary(np.zeros((5, 3)), np.tile([0.0, 0.0, 9.81], (5, 1)), dt=0.01).q.shape
-    (5, 4)
-    """
-    return Complementary(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)
+complementary = batch_function(Complementary)

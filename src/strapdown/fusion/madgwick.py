@@ -17,8 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._support.renamed import renamed
-from ._base import Estimator
+from ._base import Estimator, batch_function, nonnegative
 from .estimate import Estimate
 
 __all__ = ["Madgwick", "MadgwickParams", "madgwick"]
@@ -41,8 +40,7 @@ class MadgwickParams:
     variant: str = "corrected"
 
     def __post_init__(self):
-        if not (np.isfinite(self.beta) and self.beta >= 0):
-            raise ValueError(f"beta must be a non-negative gain in rad/s, got {self.beta!r}")
+        nonnegative(self, ("beta",), "gain in rad/s")
         if self.variant not in ("corrected", "reference"):
             raise ValueError(f"variant must be 'corrected' or 'reference', got {self.variant!r}")
 
@@ -54,11 +52,6 @@ class Madgwick(Estimator):
     ----------
     params : MadgwickParams, optional
         Gain and variant.
-    q0 : array_like, shape (4,), optional
-        Initial attitude (sensor to ``frame``); by default from the first accelerometer (and magnetometer)
-        sample.
-    frame : str
-        Reference frame of ``q0`` and of the outputs.
 
     Examples
     --------
@@ -71,12 +64,7 @@ class Madgwick(Estimator):
     """
 
     natural_frame = "NWU"
-
-    def __init__(self, params: MadgwickParams | None = None, *, q0=None, frame: str = "ENU"):
-        super().__init__(params or MadgwickParams(), q0=q0, frame=frame)
-
-    def _new_state(self, q, gyro, acc, mag, dts, extra_in):
-        return {"q": q.copy()}
+    params_class = MadgwickParams
 
     def _run(self, gyro, acc, mag, dts, extra_in):
         from ._madgwick_numba import run
@@ -89,40 +77,4 @@ class Madgwick(Estimator):
         return Estimate(q=out, frame=self.natural_frame)
 
 
-@renamed(gyr="gyro")
-def madgwick(
-    gyro, acc, mag=None, *, dt=None, t=None, params: MadgwickParams | None = None, q0=None, frame: str = "ENU"
-) -> Estimate:
-    """Run Madgwick's filter over whole arrays (the batch form of :class:`Madgwick`).
-
-    Parameters
-    ----------
-    gyro, acc : array_like, shape (N, 3)
-        Angular rate (rad/s) and specific force (m/s²).
-    mag : array_like, shape (N, 3), optional
-        Magnetic field; 9D when given.
-    dt : float or array_like, optional
-        Seconds per sample.
-    t : array_like, shape (N,), optional
-        Sample times.
-    params : MadgwickParams, optional
-        Gain and variant.
-    q0 : array_like, shape (4,), optional
-        Initial attitude.
-    frame : str
-        Reference frame.
-
-    Returns
-    -------
-    Estimate
-        Attitudes, one per sample.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.fusion import madgwick
-    >>> est = madgwick(np.zeros((10, 3)), np.tile([0.0, 0.0, 9.81], (10, 1)), dt=0.01)
-    >>> est.q.shape
-    (10, 4)
-    """
-    return Madgwick(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)
+madgwick = batch_function(Madgwick)

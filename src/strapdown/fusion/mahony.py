@@ -11,8 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._support.renamed import renamed
-from ._base import Estimator
+from ._base import Estimator, batch_function, nonnegative
 from .estimate import Estimate
 
 __all__ = ["Mahony", "MahonyParams", "mahony"]
@@ -38,10 +37,7 @@ class MahonyParams:
     bias0: tuple = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
-        for name in ("kp", "ki"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a non-negative gain, got {v!r}")
+        nonnegative(self, ("kp", "ki"), "gain")
         if len(self.bias0) != 3 or not np.isfinite(self.bias0).all():
             raise ValueError(f"bias0 must be three finite rates in rad/s, got {self.bias0!r}")
 
@@ -53,10 +49,6 @@ class Mahony(Estimator):
     ----------
     params : MahonyParams, optional
         Gains and initial bias.
-    q0 : array_like, shape (4,), optional
-        Initial attitude (sensor to ``frame``); by default from the first sample.
-    frame : str
-        Reference frame of ``q0`` and of the outputs.
 
     Examples
     --------
@@ -69,11 +61,9 @@ class Mahony(Estimator):
     array([ 0.5, -0.3,  0. ])
     """
 
+    params_class = MahonyParams
     estimates_bias = True
     _state_layout = (("q", (4,)), ("bias", (3,)))
-
-    def __init__(self, params: MahonyParams | None = None, *, q0=None, frame: str = "ENU"):
-        super().__init__(params or MahonyParams(), q0=q0, frame=frame)
 
     def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         return {"q": q.copy(), "bias": np.array(self.params.bias0, dtype=float)}
@@ -90,39 +80,4 @@ class Mahony(Estimator):
         return Estimate(q=out, frame=self.natural_frame, bias=bias)
 
 
-@renamed(gyr="gyro")
-def mahony(
-    gyro, acc, mag=None, *, dt=None, t=None, params: MahonyParams | None = None, q0=None, frame: str = "ENU"
-) -> Estimate:
-    """Run the Mahony filter over whole arrays (the batch form of :class:`Mahony`).
-
-    Parameters
-    ----------
-    gyro, acc : array_like, shape (N, 3)
-        Angular rate (rad/s) and specific force (m/s²).
-    mag : array_like, shape (N, 3), optional
-        Magnetic field; 9D when given.
-    dt : float or array_like, optional
-        Seconds per sample.
-    t : array_like, shape (N,), optional
-        Sample times.
-    params : MahonyParams, optional
-        Gains.
-    q0 : array_like, shape (4,), optional
-        Initial attitude.
-    frame : str
-        Reference frame.
-
-    Returns
-    -------
-    Estimate
-        Attitudes and bias estimates, one per sample.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from strapdown.fusion import mahony
-    >>> mahony(np.zeros((5, 3)), np.tile([0.0, 0.0, 9.81], (5, 1)), dt=0.01).bias.shape
-    (5, 3)
-    """
-    return Mahony(params, q0=q0, frame=frame).update(gyro, acc, mag, dt=dt, t=t)
+mahony = batch_function(Mahony)

@@ -50,7 +50,7 @@ def make_params(estimator: str, params=None):
     Returns
     -------
     dataclass
-        The validated parameters.
+        An instance of the estimator's parameter class (``ESTIMATORS[estimator].params``), its ranges checked.
 
     Examples
     --------

@@ -73,7 +73,7 @@ from .._support.renamed import renamed
 from ..rotations.euler import from_euler
 from ..rotations.quaternion import rotate
 from ..rotations.tilt import INVERTED_TOL, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
-from ._base import Estimator, float32_if
+from ._base import Estimator, float32_if, nonnegative
 from ._inputs import GRAVITY, _back_to_first_sample, _first_present
 from .estimate import Estimate
 
@@ -173,14 +173,8 @@ class TiltParams:
             v = getattr(self, name)
             if not (v > 0 and not np.isnan(v)):
                 raise ValueError(f"{name} must be positive, got {v!r}")
-        for name in ("tau_bias", "rest_time"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a non-negative number of seconds, got {v!r}")
-        for name in ("acc_bias_sigma", "scale_sigma_init", "scale_noise"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a non-negative number, got {v!r}")
+        nonnegative(self, ("tau_bias", "rest_time"), "number of seconds")
+        nonnegative(self, ("acc_bias_sigma", "scale_sigma_init", "scale_noise"), "number")
 
 
 class TiltEstimator(Estimator):
@@ -190,10 +184,6 @@ class TiltEstimator(Estimator):
     ----------
     params : TiltParams, optional
         Time constants and thresholds.
-    q0 : array_like, shape (4,), optional
-        Initial attitude (sensor to ``frame``); by default the tilt from the first tilt-sensor sample.
-    frame : str
-        Reference frame of ``q0`` and of the outputs (z up or down).
     bias0 : array_like, shape (3,), optional
         Initial gyro bias estimate, rad/s, e.g. restored from an earlier run.
 
@@ -263,8 +253,10 @@ class TiltEstimator(Estimator):
     )
     missing_samples = True  # a NaN row of acc (or pitch_roll): no tilt-sensor sample then
 
+    params_class = TiltParams
+
     def __init__(self, params: TiltParams | None = None, *, q0=None, frame: str = "ENU", bias0=None):
-        super().__init__(params or TiltParams(), q0=q0, frame=frame)
+        super().__init__(params, q0=q0, frame=frame)
         self._bias0 = np.zeros(3) if bias0 is None else _v.vectors(bias0, "bias0", dtype=np.float64).reshape(3)
 
     @renamed(gyr="gyro")
@@ -275,14 +267,12 @@ class TiltEstimator(Estimator):
 
         Parameters
         ----------
-        gyro : array_like, shape (N, 3)
-            Angular rate, rad/s.
+        gyro, dt, t
+            As for every filter (:mod:`strapdown.fusion`).
         acc : array_like, shape (N, 3), optional
             Specific force, m/s² (NaN rows: no sample); or give ``pitch_roll``.
         mag : None
             Not used: the tilt needs no magnetometer (given, it is an error).
-        dt, t : optional
-            Seconds per sample, or sample times.
         known_acc : array_like, shape (N, 3), optional
             Kinematic acceleration to subtract from ``acc``, sensor axes, m/s².
         pitch_roll : array_like, shape (N, 2), optional
@@ -463,26 +453,10 @@ def tilt(
 
     Parameters
     ----------
-    gyro : array_like, shape (N, 3)
-        Angular rate, rad/s.
-    acc : array_like, shape (N, 3), optional
-        Specific force, m/s² (NaN rows: no sample); or ``pitch_roll``.
-    dt, t : optional
-        Seconds per sample, or sample times.
-    params : TiltParams, optional
-        Time constants and thresholds.
-    q0 : array_like, shape (4,), optional
-        Initial attitude.
-    frame : str
-        Reference frame.
-    bias0 : array_like, shape (3,), optional
-        Initial gyro bias estimate.
-    known_acc : array_like, shape (N, 3), optional
-        Kinematic acceleration to subtract.
-    pitch_roll : array_like, shape (N, 2), optional
-        Inclinometer angles instead of ``acc``.
-    degrees : bool
-        ``pitch_roll`` in degrees.
+    gyro, acc, dt, t, known_acc, pitch_roll, degrees
+        As for :meth:`TiltEstimator.update`.
+    params, q0, frame, bias0
+        As for :class:`TiltEstimator`.
 
     Returns
     -------

@@ -9,9 +9,9 @@ to the output type (float32 or float64) on the store.  The angles are those of
 :func:`strapdown.as_euler` in float64, and only then the rounding to the output type.  It releases the GIL, so
 the reader's and writer's threads run meanwhile.
 
-The block loop of ``as_euler_rows`` is repeated here rather than called: calling it on slices of 4096 rows into
-a small (4096, 3) array and copying from there took 5.3 against 4.2 ms per 2^18 rows (same bits; interleaved
-micro-benchmark, notes/h-io3.md).
+The block loop of ``as_euler_rows`` is run here rather than called, its step (``block_rows``) inlined: calling it
+on slices of 4096 rows into a small (4096, 3) array and copying from there took 5.3 against 4.2 ms per 2^18
+rows (same bits; interleaved micro-benchmark, notes/h-io3.md).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ..rotations._euler_numba import BLOCK, _complex_pairs, _finish_row, _half_angles
+from ..rotations._euler_numba import BLOCK, block_rows, block_scratch
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -40,28 +40,12 @@ def quat_euler_columns(q, qe, euler, i, j, k, proper, sign, intrinsic, scale, ha
         out[3, n] = q[n, 3]
     if not euler:
         return
-    if proper:
-        low = 0.0
-        high = np.pi
-    else:
-        low = -0.5 * np.pi
-        high = 0.5 * np.pi
     outer = 0 if intrinsic else 2
-    a_ = np.empty(BLOCK)
-    b_ = np.empty(BLOCK)
-    c_ = np.empty(BLOCK)
-    d_ = np.empty(BLOCK)
-    mid_ = np.empty(BLOCK)
-    hs_ = np.empty(BLOCK)
-    hd_ = np.empty(BLOCK)
+    scratch = block_scratch()
     angles = np.empty((BLOCK, 3))
     for start in range(0, n_rows, BLOCK):
         stop = min(start + BLOCK, n_rows)
-        _complex_pairs(qe, start, stop, i, j, k, proper, sign, a_, b_, c_, d_)
-        _half_angles(stop - start, a_, b_, c_, d_, mid_, hs_, hd_)
-        for r in range(stop - start):
-            middle = 2.0 * mid_[r] + low
-            _finish_row(angles, r, middle, hs_[r], hd_[r], low, high, proper, sign, intrinsic, scale, False, half, full)
+        block_rows(qe, start, stop, i, j, k, proper, sign, intrinsic, scale, False, half, full, scratch, angles, 0)
         if positive:  # as_euler: angle[angle < 0] += full, then angle[angle >= full] -= full, in float64
             for r in range(stop - start):
                 a = angles[r, outer]

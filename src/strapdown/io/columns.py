@@ -121,7 +121,7 @@ def pick_vector(spec: str, fields: Mapping[str, int], option: str, width: int = 
     Returns
     -------
     Pick
-        The fields.
+        One field of width ``width``, or ``width`` scalar fields in the order given.
 
     Examples
     --------

@@ -7,7 +7,9 @@ the numbers look like:
 * declarations the data contradict: a gyro in "rad/s" turning faster than any MEMS gyro can measure, an
   accelerometer in "m/s2" reading 1 at rest, gravity pointing up in axes whose z points down, a gyro turning
   while the accelerometer says the body is still.  Silently integrating degrees as radians gives nonsense that
-  looks fine, so each is an error with the fix in the message.
+  looks fine, so each is an error with the fix in the message.  The ``check_*`` functions that judge a whole
+  stream return that message (what looks wrong and how to say otherwise, ``--no-unit-check`` among the fixes),
+  or None when nothing does.
 
 :class:`~strapdown.io.ImuFile` runs :func:`probe` on a file's first rows and :func:`check_chunk` on every chunk.
 """
@@ -228,7 +230,7 @@ def check_plausible(kind: str, raw: np.ndarray, unit: str, *, rate_hz: float | N
     Returns
     -------
     str or None
-        What looks wrong and how to say otherwise.
+        The message: the unit the values look like, or raw counts, or gravity missing from ``acc``.
 
     Examples
     --------
@@ -315,7 +317,7 @@ def check_gravity_sign(acc, body: str) -> str | None:
     Returns
     -------
     str or None
-        What looks wrong.
+        The message: the reading's direction and sign, in ``body`` axes.
 
     Examples
     --------
@@ -368,7 +370,7 @@ def check_gyro_at_rest(gyro, acc, seconds: float, unit: str) -> str | None:
     Returns
     -------
     str or None
-        What looks wrong.
+        The message: the rate across gravity against the accelerometer's drift, or a reading past the limits.
 
     Examples
     --------
@@ -481,6 +483,11 @@ def check_units(imu, kind: str, raw: np.ndarray, row: int, period: float | None)
         raise ValueError(f"{imu.path}: {problem} (columns {imu.picks[kind].label}, from {imu.where(row)})")
 
 
+def _around(imu, t: np.ndarray, prev: float, row: int, i: int) -> tuple[str, float, float]:
+    """Where row i of a chunk starting at ``row`` is, the time before it (``prev`` for the first) and its own."""
+    return imu.where(row + i), float(prev if i == 0 else t[i - 1]), float(t[i])
+
+
 class TimeCheck:
     """Strictly increasing time and no gap longer than ``max_gap`` nominal periods, across chunks."""
 
@@ -499,11 +506,10 @@ class TimeCheck:
             d[0] = np.inf
         bad = np.flatnonzero(~(d > 0))
         if bad.size:
-            i = int(bad[0])
-            before = prev if i == 0 else t[i - 1]
+            where, before, at = _around(imu, t, prev, row, int(bad[0]))
             raise ValueError(
-                f"{imu.path}: time ({imu.time.label}) does not increase at {imu.where(row + i)}: {float(before)!r} -> "
-                f"{float(t[i])!r}; sort the rows, or drop the repeated ones"
+                f"{imu.path}: time ({imu.time.label}) does not increase at {where}: {before!r} -> {at!r}; sort the "
+                "rows, or drop the repeated ones"
             )
         if self.period is None:
             inner = d[np.isfinite(d)]
@@ -514,10 +520,10 @@ class TimeCheck:
             over = np.flatnonzero(np.isfinite(d) & (d > limit * self.period))
             if over.size:
                 i = int(over[0])
-                before = prev if i == 0 else t[i - 1]
+                where, before, at = _around(imu, t, prev, row, i)
                 raise ValueError(
                     f"{imu.path}: a gap of {d[i]:.6g} s ({d[i] / self.period:.1f} sample periods of "
-                    f"{self.period:.6g} s) before {imu.where(row + i)} (time {float(before)!r} -> {float(t[i])!r}); "
+                    f"{self.period:.6g} s) before {where} (time {before!r} -> {at!r}); "
                     f"at most --max-gap {limit:g} periods are allowed.  Split the file there, or raise --max-gap "
                     "(0: no check)"
                 )

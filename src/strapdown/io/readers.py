@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .._support.deps import need
+from .formats.base import named_failure
 from .formats.csv import CsvSource
 from .formats.hdf5 import Hdf5Source
 from .formats.mat import COLUMNS_VARIABLE, MatSource, MatV73Source
@@ -83,7 +84,7 @@ def format_of(path, format: str | None = None) -> str:
     Returns
     -------
     str
-        The format.
+        ``"csv"``, ``"parquet"``, ``"hdf5"`` or ``"mat"``.
 
     Examples
     --------
@@ -235,15 +236,7 @@ def open_source(path, format: str | None = None, **options) -> Source:
         raise ValueError(f"{path}: the {fmt.name} reader takes no option {', '.join(sorted(unknown & set(given)))}")
     if path.is_dir() and fmt.table:
         raise ValueError(f"{path} is a folder, and no export layout (Sensor Logger, phyphox, EuRoC, ROS 2 bag) fits it")
-    try:
-        return fmt.open(path, **{k: v for k, v in given.items() if k in fmt.options})
-    except (ImportError, FileNotFoundError):
-        raise
-    except ValueError as exc:
-        text = str(exc)
-        raise ValueError(text if str(path) in text else f"{path} is not a readable {fmt.name} file: {text}") from None
-    except Exception as exc:  # a corrupt file, or one without a header: named, with the reader's reason
-        raise ValueError(f"{path} is not a readable {fmt.name} file: {exc}") from None
+    return named_failure(path, fmt.name, lambda: fmt.open(path, **{k: v for k, v in given.items() if k in fmt.options}))
 
 
 def read_table(path, names: Sequence[str] | None = None, format: str | None = None, **options) -> dict:

@@ -62,10 +62,6 @@ def register(fmt: Format) -> Format:
 def formats() -> dict[str, Format]:
     """The registered formats by name (the registry itself).
 
-    Parameters
-    ----------
-    None
-
     Returns
     -------
     dict of str to Format
@@ -93,7 +89,7 @@ def choose(path, format: str | None = None) -> Format:
     Returns
     -------
     Format
-        The format.
+        The registered format that opens ``path`` (:func:`formats`).
 
     Examples
     --------

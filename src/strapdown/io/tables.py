@@ -76,10 +76,6 @@ _BIAS_AT_LIMIT = 16
 def flag_bits() -> dict[str, int]:
     """The bit of each named flag column (:data:`FLAG_COLUMNS`), as the estimators define them.
 
-    Parameters
-    ----------
-    None
-
     Returns
     -------
     dict of str to int

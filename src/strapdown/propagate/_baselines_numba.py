@@ -66,10 +66,7 @@ def _deriv(method, s, ox, oy, oz, d):
             d[3 * r + 2] = c0 * oy - c1 * ox
         return np.inf
     if method == EULER_PARAMETERS:
-        ex = s[0]
-        ey = s[1]
-        ez = s[2]
-        chi = s[3]
+        ex, ey, ez, chi = s[0], s[1], s[2], s[3]
         dot = ox * ex + oy * ey + oz * ez
         cot = math.cos(0.5 * chi) / math.sin(0.5 * chi)
         d[0] = 0.5 * (ey * oz - ez * oy) + 0.5 * (ox - dot * ex) * cot
@@ -78,9 +75,7 @@ def _deriv(method, s, ox, oy, oz, d):
         d[3] = dot
         return abs(_wrap(chi))
     # rotation vector θ = 2 e tan(χ/2)
-    tx = s[0]
-    ty = s[1]
-    tz = s[2]
+    tx, ty, tz = s[0], s[1], s[2]
     dot = ox * tx + oy * ty + oz * tz
     d[0] = ox + 0.5 * (ty * oz - tz * oy) + 0.25 * dot * tx
     d[1] = oy + 0.5 * (tz * ox - tx * oz) + 0.25 * dot * ty
@@ -157,22 +152,25 @@ def _to_quaternion(method, s):
 @nb.njit(cache=True, error_model="numpy")
 def _orthonormalize(s):
     """C ← C (3I - CᵀC)/2, one Newton step of the polar decomposition (the matrix twin of nabbla's series)."""
-    m = np.empty(9)
+    m = _product3(s, True, s)
+    for i in range(9):
+        m[i] = (3.0 if i % 4 == 0 else 0.0) - m[i]  # the diagonal of 3I at 0, 4, 8
+    out = _product3(s, False, m)
+    for i in range(9):
+        s[i] = 0.5 * out[i]
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _product3(a, transposed, b):
+    """The 3x3 product a b (aᵀ b when ``transposed``) of row-major 9-vectors, each entry summed in order."""
+    out = np.empty(9)
     for i in range(3):
         for j in range(3):
             acc = 0.0
             for r in range(3):
-                acc += s[3 * r + i] * s[3 * r + j]
-            m[3 * i + j] = (3.0 if i == j else 0.0) - acc
-    out = np.empty(9)
-    for r in range(3):
-        for j in range(3):
-            acc = 0.0
-            for i in range(3):
-                acc += s[3 * r + i] * m[3 * i + j]
-            out[3 * r + j] = 0.5 * acc
-    for i in range(9):
-        s[i] = out[i]
+                acc += (a[3 * r + i] if transposed else a[3 * i + r]) * b[3 * r + j]
+            out[3 * i + j] = acc
+    return out
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -217,13 +215,7 @@ def baseline(method, scheme, orthonormalize, w0, wm, w1, h, state, last_q, out, 
             w, x, y, z = _to_quaternion(method, s)
             if w * last_q[b, 0] + x * last_q[b, 1] + y * last_q[b, 2] + z * last_q[b, 3] < 0.0:
                 w, x, y, z = -w, -x, -y, -z
-            last_q[b, 0] = w
-            last_q[b, 1] = x
-            last_q[b, 2] = y
-            last_q[b, 3] = z
-            out[b, k, 0] = w
-            out[b, k, 1] = x
-            out[b, k, 2] = y
-            out[b, k, 3] = z
+            last_q[b, 0], last_q[b, 1], last_q[b, 2], last_q[b, 3] = w, x, y, z
+            out[b, k, 0], out[b, k, 1], out[b, k, 2], out[b, k, 3] = w, x, y, z
         for i in range(m):
             state[b, i] = s[i]

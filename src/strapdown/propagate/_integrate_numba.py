@@ -260,10 +260,7 @@ def _chain(g, h, hstep, scale, kind, lo, hi, w, x, y, z, out, at, columns, norm_
                 out[2, j] = y
                 out[3, j] = z
             else:
-                out[j, 0] = w
-                out[j, 1] = x
-                out[j, 2] = y
-                out[j, 3] = z
+                out[j, 0], out[j, 1], out[j, 2], out[j, 3] = w, x, y, z
     return w, x, y, z, c
 
 
@@ -295,10 +292,7 @@ def sequential(g, h, hstep, scale, kind, norm_mode, norm_every, counter, q, out)
             norm_every,
             counter,
         )
-        q[b, 0] = w
-        q[b, 1] = x
-        q[b, 2] = y
-        q[b, 3] = z
+        q[b, 0], q[b, 1], q[b, 2], q[b, 3] = w, x, y, z
     return c_end
 
 
@@ -328,10 +322,7 @@ def _scan_bounds(start, stop, bounds):
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def _store(out, k, w, x, y, z):
-    out[k, 0] = w
-    out[k, 1] = x
-    out[k, 2] = y
-    out[k, 3] = z
+    out[k, 0], out[k, 1], out[k, 2], out[k, 3] = w, x, y, z
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
@@ -617,6 +608,26 @@ def _qvec(w, x, y, z, ox, oy, oz):
     return 0.5 * rw, 0.5 * rx, 0.5 * ry, 0.5 * rz
 
 
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _rk4_step(w, x, y, z, a0, a1, a2, a3, h, mid, end, b, k):
+    """The attitude after an RK4 step of length h, unnormalised.
+
+    ``a`` is the first stage; ``mid[b, k]`` and ``end[b, k]`` are the rates halfway and at the end.
+    """
+    mx, my, mz = mid[b, k, 0], mid[b, k, 1], mid[b, k, 2]
+    hh = 0.5 * h
+    b0, b1, b2, b3 = _qvec(w + hh * a0, x + hh * a1, y + hh * a2, z + hh * a3, mx, my, mz)
+    c0, c1, c2, c3 = _qvec(w + hh * b0, x + hh * b1, y + hh * b2, z + hh * b3, mx, my, mz)
+    d0, d1, d2, d3 = _qvec(w + h * c0, x + h * c1, y + h * c2, z + h * c3, end[b, k, 0], end[b, k, 1], end[b, k, 2])
+    s = h / 6.0
+    return (
+        w + s * (a0 + 2.0 * (b0 + c0) + d0),
+        x + s * (a1 + 2.0 * (b1 + c1) + d1),
+        y + s * (a2 + 2.0 * (b2 + c2) + d2),
+        z + s * (a3 + 2.0 * (b3 + c3) + d3),
+    )
+
+
 @nb.njit(cache=True, error_model="numpy")
 def rk4(w0, wm, w1, wq, wi, h, spans, tm, norm_mode, norm_every, counter, q, out):
     """Classical RK4 on q̇ = ½ q ⊗ ω(t) with the rates at the start, middle and end of each step.
@@ -630,69 +641,26 @@ def rk4(w0, wm, w1, wq, wi, h, spans, tm, norm_mode, norm_every, counter, q, out
     n = w0.shape[1]
     c_end = counter
     for b in range(n_bodies):
-        w = q[b, 0]
-        x = q[b, 1]
-        y = q[b, 2]
-        z = q[b, 3]
+        w, x, y, z = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
         c = counter
         o = 0
         for k in range(n):
             hk = h[k]
             a0, a1, a2, a3 = _qvec(w, x, y, z, w0[b, k, 0], w0[b, k, 1], w0[b, k, 2])
-            hh = 0.5 * hk
-            b0, b1, b2, b3 = _qvec(
-                w + hh * a0, x + hh * a1, y + hh * a2, z + hh * a3, wm[b, k, 0], wm[b, k, 1], wm[b, k, 2]
-            )
-            c0, c1, c2, c3 = _qvec(
-                w + hh * b0, x + hh * b1, y + hh * b2, z + hh * b3, wm[b, k, 0], wm[b, k, 1], wm[b, k, 2]
-            )
-            d0, d1, d2, d3 = _qvec(
-                w + hk * c0, x + hk * c1, y + hk * c2, z + hk * c3, w1[b, k, 0], w1[b, k, 1], w1[b, k, 2]
-            )
-            s = hk / 6.0
-            nw = w + s * (a0 + 2.0 * (b0 + c0) + d0)
-            nx = x + s * (a1 + 2.0 * (b1 + c1) + d1)
-            ny = y + s * (a2 + 2.0 * (b2 + c2) + d2)
-            nz = z + s * (a3 + 2.0 * (b3 + c3) + d3)
+            nw, nx, ny, nz = _rk4_step(w, x, y, z, a0, a1, a2, a3, hk, wm, w1, b, k)
             c += 1
             if norm_mode != NORM_NONE and c >= norm_every:
                 nw, nx, ny, nz = renormalize(norm_mode, nw, nx, ny, nz)
                 c = 0
             if spans[k] == 2:
-                tk = tm[k]
-                th = 0.5 * tk
-                b0, b1, b2, b3 = _qvec(
-                    w + th * a0, x + th * a1, y + th * a2, z + th * a3, wq[b, k, 0], wq[b, k, 1], wq[b, k, 2]
-                )
-                c0, c1, c2, c3 = _qvec(
-                    w + th * b0, x + th * b1, y + th * b2, z + th * b3, wq[b, k, 0], wq[b, k, 1], wq[b, k, 2]
-                )
-                d0, d1, d2, d3 = _qvec(
-                    w + tk * c0, x + tk * c1, y + tk * c2, z + tk * c3, wi[b, k, 0], wi[b, k, 1], wi[b, k, 2]
-                )
-                s = tk / 6.0
-                mw, mx, my, mz = renormalize(
-                    NORM_EXACT,
-                    w + s * (a0 + 2.0 * (b0 + c0) + d0),
-                    x + s * (a1 + 2.0 * (b1 + c1) + d1),
-                    y + s * (a2 + 2.0 * (b2 + c2) + d2),
-                    z + s * (a3 + 2.0 * (b3 + c3) + d3),
-                )
-                out[b, o, 0] = mw
-                out[b, o, 1] = mx
-                out[b, o, 2] = my
-                out[b, o, 3] = mz
+                mw, mx, my, mz = _rk4_step(w, x, y, z, a0, a1, a2, a3, tm[k], wq, wi, b, k)
+                mw, mx, my, mz = renormalize(NORM_EXACT, mw, mx, my, mz)
+                out[b, o, 0], out[b, o, 1], out[b, o, 2], out[b, o, 3] = mw, mx, my, mz
                 o += 1
             w, x, y, z = nw, nx, ny, nz
-            out[b, o, 0] = w
-            out[b, o, 1] = x
-            out[b, o, 2] = y
-            out[b, o, 3] = z
+            out[b, o, 0], out[b, o, 1], out[b, o, 2], out[b, o, 3] = w, x, y, z
             o += 1
-        q[b, 0] = w
-        q[b, 1] = x
-        q[b, 2] = y
-        q[b, 3] = z
+        q[b, 0], q[b, 1], q[b, 2], q[b, 3] = w, x, y, z
         c_end = c
     return c_end
 
@@ -722,12 +690,8 @@ def coning(inc, coef, c_prev, norm_mode, norm_every, counter, pos, node, alpha, 
         p = pos
         c = counter
         for k in range(n):
-            dx = inc[b, k, 0]
-            dy = inc[b, k, 1]
-            dz = inc[b, k, 2]
-            group[b, p, 0] = dx
-            group[b, p, 1] = dy
-            group[b, p, 2] = dz
+            dx, dy, dz = inc[b, k, 0], inc[b, k, 1], inc[b, k, 2]
+            group[b, p, 0], group[b, p, 1], group[b, p, 2] = dx, dy, dz
             # Savage partial update (used for outputs inside the group)
             sx = alpha[b, 0] + prev[b, 0] / 6.0
             sy = alpha[b, 1] + prev[b, 1] / 6.0
@@ -742,9 +706,7 @@ def coning(inc, coef, c_prev, norm_mode, norm_every, counter, pos, node, alpha, 
             p += 1
             if p == size:
                 # the group's rotation vector by the chosen coefficient set
-                fx = alpha[b, 0]
-                fy = alpha[b, 1]
-                fz = alpha[b, 2]
+                fx, fy, fz = alpha[b, 0], alpha[b, 1], alpha[b, 2]
                 for i in range(size):
                     for j in range(i + 1, size):
                         kij = coef[i, j]
@@ -774,10 +736,7 @@ def coning(inc, coef, c_prev, norm_mode, norm_every, counter, pos, node, alpha, 
                 if norm_mode != NORM_NONE and c >= norm_every:
                     w, x, y, z = renormalize(norm_mode, w, x, y, z)
                     c = 0
-                node[b, 0] = w
-                node[b, 1] = x
-                node[b, 2] = y
-                node[b, 3] = z
+                node[b, 0], node[b, 1], node[b, 2], node[b, 3] = w, x, y, z
                 for i in range(3):
                     alpha[b, i] = 0.0
                     beta[b, i] = 0.0
@@ -788,13 +747,8 @@ def coning(inc, coef, c_prev, norm_mode, norm_every, counter, pos, node, alpha, 
                 )
                 w, x, y, z = advance(node[b, 0], node[b, 1], node[b, 2], node[b, 3], mw, mx, my, mz)
             # for a group of one the "previous" increment is this sample's; otherwise the last in the group
-            prev[b, 0] = dx
-            prev[b, 1] = dy
-            prev[b, 2] = dz
-            out[b, k, 0] = w
-            out[b, k, 1] = x
-            out[b, k, 2] = y
-            out[b, k, 3] = z
+            prev[b, 0], prev[b, 1], prev[b, 2] = dx, dy, dz
+            out[b, k, 0], out[b, k, 1], out[b, k, 2], out[b, k, 3] = w, x, y, z
         pos_end = p
         c_end = c
     return pos_end, c_end

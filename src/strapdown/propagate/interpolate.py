@@ -6,7 +6,9 @@ New times ``t_new`` of any shape must lie in ``[t[0], t[-1]]`` (no extrapolation
 ``t_new.shape + q.shape[1:]``.  Before interpolating, the series is made continuous in sign (each sample is
 flipped if needed so that ``q[i]·q[i-1] ≥ 0``): every segment then takes the shorter arc, and the results are
 continuous in sign too.  At a sample time the result is that sample, possibly with its sign flipped.
-Computations are in float64; results keep float32 as float32.
+Computations are in float64; results keep float32 as float32.  ``check`` (default True) rejects NaN, infinities,
+zero quaternions, non-increasing ``t`` and ``t_new`` outside the range with a ``ValueError`` that names the
+argument and the first bad index.
 """
 
 from __future__ import annotations
@@ -57,14 +59,9 @@ def slerp_series(t, q, t_new, *, check: bool = True) -> np.ndarray:
 
     Parameters
     ----------
-    t : array_like, shape (n,)
-        Strictly increasing sample times, n ≥ 2.
-    q : array_like, shape (n, ..., 4)
-        Non-zero attitude quaternions at those times (normalised first).
-    t_new : array_like, any shape
-        Times at which to interpolate, inside ``[t[0], t[-1]]``.
-    check : bool
-        Reject NaN, infinities, zero quaternions, non-increasing ``t`` and ``t_new`` outside the range (default).
+    t, q, t_new : array_like
+        Sample times (n ≥ 2), the attitudes at those times (normalised first) and the times at which to
+        interpolate (module conventions).
 
     Returns
     -------
@@ -73,11 +70,6 @@ def slerp_series(t, q, t_new, *, check: bool = True) -> np.ndarray:
         ``q_i ⊗ (q_i* ⊗ q_{i+1})^s``: a rotation about a fixed body axis at a constant rate, the shorter way.
         Continuous, with a jump of the angular rate at each sample.  The same rotations as scipy's
         ``Slerp(t, Rotation)``.
-
-    Raises
-    ------
-    ValueError
-        For invalid input, naming the argument and the first bad index.
 
     Examples
     --------
@@ -99,24 +91,13 @@ def squad_series(t, q, t_new, *, check: bool = True) -> np.ndarray:
 
     Parameters
     ----------
-    t : array_like, shape (n,)
-        Strictly increasing sample times, n ≥ 2 (not necessarily uniform).
-    q : array_like, shape (n, ..., 4)
-        Non-zero attitude quaternions at those times (normalised first).
-    t_new : array_like, any shape
-        Times at which to interpolate, inside ``[t[0], t[-1]]``.
-    check : bool
-        Reject NaN, infinities, zero quaternions, non-increasing ``t`` and ``t_new`` outside the range (default).
+    t, q, t_new : array_like
+        As for :func:`slerp_series`; the times need not be uniform.
 
     Returns
     -------
     numpy.ndarray, shape ``t_new.shape + q.shape[1:]``
         Unit quaternions through every sample, with an angular rate continuous at the samples.
-
-    Raises
-    ------
-    ValueError
-        For invalid input, naming the argument and the first bad index.
 
     Notes
     -----
@@ -162,26 +143,15 @@ def resample(t, q, t_new, method: str = "slerp", *, check: bool = True) -> np.nd
 
     Parameters
     ----------
-    t : array_like, shape (n,)
-        Strictly increasing sample times, n ≥ 2.
-    q : array_like, shape (n, ..., 4)
-        Non-zero attitude quaternions at those times.
-    t_new : array_like, any shape
-        New timestamps, inside ``[t[0], t[-1]]``.
+    t, q, t_new : array_like
+        As for :func:`slerp_series`.
     method : {"slerp", "squad"}
         Piecewise slerp (constant rate in each interval; the default) or squad (rate continuous at the samples).
-    check : bool
-        Reject NaN, infinities, zero quaternions, non-increasing ``t`` and ``t_new`` outside the range (default).
 
     Returns
     -------
     numpy.ndarray, shape ``t_new.shape + q.shape[1:]``
         Unit quaternions at ``t_new``.
-
-    Raises
-    ------
-    ValueError
-        For invalid input, naming the argument and the first bad index.
 
     Examples
     --------

@@ -11,6 +11,18 @@ Inside the floor the modules import downwards in this order:
 * :mod:`.attitude`: the frame-tagged :class:`~strapdown.Attitude` object over all of them.
 
 The top-level package re-exports the conversions; this floor imports only :mod:`strapdown._support`.
+
+Conventions
+-----------
+Stated here once; each function's docstring says only what differs.
+
+* Quaternions as in :mod:`.quaternion` (shape (..., 4), scalar first, body to reference); vectors have shape
+  (..., 3).  Leading axes broadcast between the arguments of a call; float32 stays float32.
+* ``check`` (keyword, default True) rejects, with a ``ValueError`` that names the argument and the first bad
+  index, what the function cannot use: NaN, infinities, zero quaternions where a rotation is meant, zero
+  vectors where a direction is meant, and whatever else its docstring names.  ``check=False`` skips these
+  checks (not the shape tests) for hot code whose input is validated already.
+* ``degrees=True`` takes or returns angles in degrees instead of radians.
 """
 
 from .._support.lazy import exports

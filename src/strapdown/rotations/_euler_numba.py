@@ -215,25 +215,38 @@ def as_euler_rows(q, i, j, k, proper, sign, intrinsic, scale, single, half, full
     Angles are multiplied by `scale` (1 for radians, 180/π for degrees) on output.  An outer angle that the
     rounding to degrees or float32 puts at -`half` (-180° or -π in the output's type) is moved to +`half`.
     """
-    if proper:
-        low = 0.0
-        high = math.pi
-    else:
-        low = -0.5 * math.pi
-        high = 0.5 * math.pi
-    a_ = np.empty(BLOCK)
-    b_ = np.empty(BLOCK)
-    c_ = np.empty(BLOCK)
-    d_ = np.empty(BLOCK)
-    mid_ = np.empty(BLOCK)
-    hs_ = np.empty(BLOCK)
-    hd_ = np.empty(BLOCK)
+    scratch = block_scratch()
     for start in range(0, q.shape[0], BLOCK):
         stop = min(start + BLOCK, q.shape[0])
-        _complex_pairs(q, start, stop, i, j, k, proper, sign, a_, b_, c_, d_)
-        _half_angles(stop - start, a_, b_, c_, d_, mid_, hs_, hd_)
-        for r in range(stop - start):
-            middle = 2.0 * mid_[r] + low
-            _finish_row(
-                out, start + r, middle, hs_[r], hd_[r], low, high, proper, sign, intrinsic, scale, single, half, full
-            )
+        block_rows(q, start, stop, i, j, k, proper, sign, intrinsic, scale, single, half, full, scratch, out, start)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def block_scratch():
+    """The rows one block of :func:`block_rows` works in: a, b, c, d, the middle angle, the half sum and difference."""
+    return (
+        np.empty(BLOCK),
+        np.empty(BLOCK),
+        np.empty(BLOCK),
+        np.empty(BLOCK),
+        np.empty(BLOCK),
+        np.empty(BLOCK),
+        np.empty(BLOCK),
+    )
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def block_rows(q, start, stop, i, j, k, proper, sign, intrinsic, scale, single, half, full, scratch, out, first):
+    """One block of :func:`as_euler_rows`: the angles of rows start..stop-1 of q into rows first... of out.
+
+    Inlined into its callers (as_euler_rows and the file writers' column kernel), so each runs it as its own loop.
+    """
+    a_, b_, c_, d_, mid_, hs_, hd_ = scratch
+    low, high = (0.0, math.pi) if proper else (-0.5 * math.pi, 0.5 * math.pi)
+    _complex_pairs(q, start, stop, i, j, k, proper, sign, a_, b_, c_, d_)
+    _half_angles(stop - start, a_, b_, c_, d_, mid_, hs_, hd_)
+    for r in range(stop - start):
+        middle = 2.0 * mid_[r] + low
+        _finish_row(
+            out, first + r, middle, hs_[r], hd_[r], low, high, proper, sign, intrinsic, scale, single, half, full
+        )

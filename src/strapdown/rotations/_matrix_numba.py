@@ -36,6 +36,14 @@ def as_matrix_rows(q, out):
         out[n, 2, 2] = 1.0 - (xx + yy)
 
 
+@nb.njit(cache=True, inline="always")
+def _pivot(four_sq, d0, d1, d2):
+    """Shepperd's step for the largest component c, 4c² = ``four_sq``: c and the other three, ``d / (4c)``."""
+    r = math.sqrt(four_sq)
+    f = 0.5 / r
+    return 0.5 * r, d0 * f, d1 * f, d2 * f
+
+
 @nb.njit(cache=True)
 def shepperd(c00, c01, c02, c10, c11, c12, c20, c21, c22):
     """Largest-pivot (Shepperd 1978) unit quaternion of a rotation matrix, canonical sign (w > 0, ties x, y, z).
@@ -47,33 +55,13 @@ def shepperd(c00, c01, c02, c10, c11, c12, c20, c21, c22):
     """
     tr = c00 + c11 + c22
     if tr >= c00 and tr >= c11 and tr >= c22:
-        r = math.sqrt(1.0 + tr)
-        f = 0.5 / r
-        w = 0.5 * r
-        x = (c21 - c12) * f
-        y = (c02 - c20) * f
-        z = (c10 - c01) * f
+        w, x, y, z = _pivot(1.0 + tr, c21 - c12, c02 - c20, c10 - c01)
     elif c00 >= c11 and c00 >= c22:
-        r = math.sqrt(1.0 + 2.0 * c00 - tr)
-        f = 0.5 / r
-        x = 0.5 * r
-        w = (c21 - c12) * f
-        y = (c01 + c10) * f
-        z = (c02 + c20) * f
+        x, w, y, z = _pivot(1.0 + 2.0 * c00 - tr, c21 - c12, c01 + c10, c02 + c20)
     elif c11 >= c22:
-        r = math.sqrt(1.0 + 2.0 * c11 - tr)
-        f = 0.5 / r
-        y = 0.5 * r
-        w = (c02 - c20) * f
-        x = (c01 + c10) * f
-        z = (c12 + c21) * f
+        y, w, x, z = _pivot(1.0 + 2.0 * c11 - tr, c02 - c20, c01 + c10, c12 + c21)
     else:
-        r = math.sqrt(1.0 + 2.0 * c22 - tr)
-        f = 0.5 / r
-        z = 0.5 * r
-        w = (c10 - c01) * f
-        x = (c02 + c20) * f
-        y = (c12 + c21) * f
+        z, w, x, y = _pivot(1.0 + 2.0 * c22 - tr, c10 - c01, c02 + c20, c12 + c21)
     inv = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
     if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
         inv = -inv

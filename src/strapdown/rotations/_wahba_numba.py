@@ -53,6 +53,12 @@ def _undo_frame(k, w, x, y, z):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def _over(x, y, z, d):
+    """(x, y, z) / d, each component divided."""
+    return x / d, y / d, z / d
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _pair(body, ref, weights, ib, ir, iw, i, unit):
     """Unit vectors b̂, r̂ of observation i and the weight its pair carries."""
     a = weights[iw, i]
@@ -115,6 +121,12 @@ def k_lane(bmat, kmat, lane):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def _turn(xp, xq, s, tau):
+    """The pair (x_p, x_q) turned by the Jacobi rotation of sine s, in Rutishauser's form with tau = s / (1 + c)."""
+    return xp - s * (xq + tau * xp), xq + s * (xp - tau * xq)
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _rotate_lanes(a, v, p, q, n_lanes, ss, taus):
     """One Jacobi rotation annihilating a[p, q] in every lane (Golub and Van Loan, Alg. 8.4.1).
 
@@ -140,20 +152,14 @@ def _rotate_lanes(a, v, p, q, n_lanes, ss, taus):
             for lane in range(n_lanes):
                 s = ss[lane]
                 tau = taus[lane]
-                arp = a[r, p, lane]
-                arq = a[r, q, lane]
-                a[r, p, lane] = arp - s * (arq + tau * arp)
+                a[r, p, lane], a[r, q, lane] = _turn(a[r, p, lane], a[r, q, lane], s, tau)
                 a[p, r, lane] = a[r, p, lane]
-                a[r, q, lane] = arq + s * (arp - tau * arq)
                 a[q, r, lane] = a[r, q, lane]
     for r in range(4):
         for lane in range(n_lanes):
             s = ss[lane]
             tau = taus[lane]
-            vrp = v[r, p, lane]
-            vrq = v[r, q, lane]
-            v[r, p, lane] = vrp - s * (vrq + tau * vrp)
-            v[r, q, lane] = vrq + s * (vrp - tau * vrq)
+            v[r, p, lane], v[r, q, lane] = _turn(v[r, p, lane], v[r, q, lane], s, tau)
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -307,16 +313,7 @@ def olae_frame(body, ref, weights, ib, ir, iw, unit, k):
     d0 = _frame_sign(k, 0)
     d1 = _frame_sign(k, 1)
     d2 = _frame_sign(k, 2)
-    m00 = 0.0
-    m01 = 0.0
-    m02 = 0.0
-    m11 = 0.0
-    m12 = 0.0
-    m22 = 0.0
-    y0 = 0.0
-    y1 = 0.0
-    y2 = 0.0
-    lam0 = 0.0
+    m00 = m01 = m02 = m11 = m12 = m22 = y0 = y1 = y2 = lam0 = 0.0
     for i in range(body.shape[1]):
         a, bx, by, bz, rx, ry, rz = _pair(body, ref, weights, ib, ir, iw, i, unit)
         rx *= d0
@@ -337,22 +334,10 @@ def olae_frame(body, ref, weights, ib, ir, iw, unit, k):
         y1 += 2.0 * a * (bz * rx - bx * rz)
         y2 += 2.0 * a * (bx * ry - by * rx)
     if lam0 > 0.0:
-        m00 /= lam0
-        m01 /= lam0
-        m02 /= lam0
-        m11 /= lam0
-        m12 /= lam0
-        m22 /= lam0
-        y0 /= lam0
-        y1 /= lam0
-        y2 /= lam0
-    c00 = m11 * m22 - m12 * m12
-    c01 = m02 * m12 - m01 * m22
-    c02 = m01 * m12 - m02 * m11
-    c11 = m00 * m22 - m02 * m02
-    c12 = m01 * m02 - m00 * m12
-    c22 = m00 * m11 - m01 * m01
-    det = m00 * c00 + m01 * c01 + m02 * c02
+        m00, m01, m02 = _over(m00, m01, m02, lam0)
+        m11, m12, m22 = _over(m11, m12, m22, lam0)
+        y0, y1, y2 = _over(y0, y1, y2, lam0)
+    c00, c01, c02, c11, c12, c22, det = _adjugate3(m00, m01, m02, m11, m12, m22)
     g0 = c00 * y0 + c01 * y1 + c02 * y2
     g1 = c01 * y0 + c11 * y1 + c12 * y2
     g2 = c02 * y0 + c12 * y1 + c22 * y2
@@ -384,12 +369,7 @@ def _canonical(w, x, y, z):
 @nb.njit(cache=True, error_model="numpy")
 def information(body, ref, weights, ib, ir, iw, unit):
     """Entries n00, n01, n02, n11, n12, n22 of N = Σ a (I - b̂ b̂ᵀ), the Fisher information of the attitude."""
-    n00 = 0.0
-    n01 = 0.0
-    n02 = 0.0
-    n11 = 0.0
-    n12 = 0.0
-    n22 = 0.0
+    n00 = n01 = n02 = n11 = n12 = n22 = 0.0
     for i in range(body.shape[1]):
         a, bx, by, bz, _, _, _ = _pair(body, ref, weights, ib, ir, iw, i, unit)
         n00 += a * (by * by + bz * bz)
@@ -553,21 +533,13 @@ def wahba_rows(method, body, ref, weights, unit, out, cov, want_cov):
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def _triad_basis(ax, ay, az, bx, by, bz):
     """Orthonormal triad t1 = â, t2 = â × b̂ / |â × b̂|, t3 = t1 × t2, and |â × b̂| (the sine of their angle)."""
-    la = math.sqrt(ax * ax + ay * ay + az * az)
-    lb = math.sqrt(bx * bx + by * by + bz * bz)
-    ax /= la
-    ay /= la
-    az /= la
-    bx /= lb
-    by /= lb
-    bz /= lb
+    ax, ay, az = _over(ax, ay, az, math.sqrt(ax * ax + ay * ay + az * az))
+    bx, by, bz = _over(bx, by, bz, math.sqrt(bx * bx + by * by + bz * bz))
     cx = ay * bz - az * by
     cy = az * bx - ax * bz
     cz = ax * by - ay * bx
     sine = math.sqrt(cx * cx + cy * cy + cz * cz)
-    cx /= sine
-    cy /= sine
-    cz /= sine
+    cx, cy, cz = _over(cx, cy, cz, sine)
     return ax, ay, az, cx, cy, cz, ay * cz - az * cy, az * cx - ax * cz, ax * cy - ay * cx, sine
 
 

@@ -42,9 +42,7 @@ def average_two(p, q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     p, q : array_like, shape (..., 4)
-        Non-zero quaternions (normalised first); leading axes broadcast.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Non-zero quaternions (normalised first).
 
     Returns
     -------
@@ -238,9 +236,7 @@ def chordal_distance(p, q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     p, q : array_like, shape (..., 4)
-        Non-zero quaternions of any finite norm; leading axes broadcast.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Non-zero quaternions of any finite norm.
 
     Returns
     -------
@@ -278,9 +274,7 @@ def geodesic_distance(p, q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     p, q : array_like, shape (..., 4)
-        Non-zero quaternions; leading axes broadcast.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        The two attitudes, as for :func:`~strapdown.rotations.quaternion.angle_between`.
 
     Returns
     -------

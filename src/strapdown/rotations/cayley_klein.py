@@ -20,14 +20,12 @@ __all__ = ["as_cayley_klein", "from_cayley_klein"]
 
 
 def as_cayley_klein(q, *, check: bool = True) -> np.ndarray:
-    """SU(2) matrices ``[[α, β], [-β̄, ᾱ]]`` of unit quaternions (the input is normalised).
+    """SU(2) matrices ``[[α, β], [-β̄, ᾱ]]`` of unit quaternions.
 
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Quaternions of any non-zero norm; they are normalised first.
 
     Returns
     -------

@@ -36,10 +36,6 @@ def from_compressed(angles, degrees: bool = False, *, check: bool = True) -> np.
     ----------
     angles : array_like, shape (..., 3)
         (ψ heading about Up, θ pitch about Right, γ roll about Forward), ENU reference, RFU body axes.
-    degrees : bool
-        Angles in degrees.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -62,10 +58,6 @@ def as_compressed(q, degrees: bool = False, *, check: bool = True) -> np.ndarray
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions, ENU reference and RFU body axes; ``q`` and ``-q`` give bit-identical results.
-    degrees : bool
-        Return degrees.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

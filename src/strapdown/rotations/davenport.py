@@ -90,10 +90,6 @@ def from_davenport(axes, order: str, angles, degrees: bool = False, *, check: bo
         Fixed reference axes or turning body axes (module notes).
     angles : array_like, shape (..., k), or a number for one axis
         One angle per axis (radians, or degrees with ``degrees=True``).
-    degrees : bool
-        Angles in degrees.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -122,10 +118,6 @@ def as_davenport(q, axes, order: str, degrees: bool = False, *, check: bool = Tr
         The three axes, normalised here; ``axes[1]`` must be perpendicular to the other two.
     order : {"extrinsic", "e", "intrinsic", "i"}
         Fixed reference axes or turning body axes.
-    degrees : bool
-        Return degrees.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

@@ -53,7 +53,7 @@ def swing_twist(q, axis, *, frame: str = "body", check: bool = True) -> tuple[np
     q : array_like, shape (..., 4)
         Non-zero attitude quaternions (body to reference).
     axis : array_like, shape (..., 3)
-        The twist axis n (any non-zero length); leading axes broadcast with those of ``q``.
+        The twist axis n (any non-zero length).
     frame : {"body", "reference"}
         Frame in which ``axis`` is given, which also fixes the order of the factors.  ``"body"`` (default):
         ``q = swing ⊗ twist``, the twist turns the body about its own axis n first (for n = forward, the roll
@@ -122,9 +122,7 @@ def shortest_arc(u, v, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     u, v : array_like, shape (..., 3)
-        Non-zero vectors (only their directions matter); leading axes broadcast.
-    check : bool
-        Reject NaN, infinities and zero vectors (default).
+        Non-zero vectors (only their directions matter).
 
     Returns
     -------
@@ -193,15 +191,13 @@ def attitude_error(q, q_ref, *, frame: str = "body", rotvec: bool = False, check
     q : array_like, shape (..., 4)
         Actual attitudes (body to reference), non-zero.
     q_ref : array_like, shape (..., 4)
-        Desired attitudes (the set points), non-zero; leading axes broadcast with those of ``q``.
+        Desired attitudes (the set points), non-zero.
     frame : {"body", "reference"}
         ``"body"`` (default): ``e = q_ref* ⊗ q``, so ``q = q_ref ⊗ e``: the rotation from the desired to the
         actual attitude, expressed in the desired body axes (what a body-rate or torque loop feeds back).
         ``"reference"``: ``e = q ⊗ q_ref*``, so ``q = e ⊗ q_ref``: the same rotation in reference axes.
     rotvec : bool
         Return the error as a rotation vector (angle in [0, π] times unit axis, rad) instead of a quaternion.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

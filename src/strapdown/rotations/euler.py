@@ -91,10 +91,6 @@ def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool =
     seq : str
         Axis sequence: ``"ZYX"``, ``"ZXY"``, ``"ZXZ"``, ... (intrinsic) or ``"xyz"``, ... (extrinsic); also
         one or two axes (``"z"``, ``"ZY"``), see :mod:`strapdown.rotations.davenport`.
-    degrees : bool
-        Angles in degrees instead of radians.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -155,12 +151,8 @@ def as_euler(
         ``-q`` give identical angles.
     seq : str
         Axis sequence, upper case intrinsic (``"ZYX"``), lower case extrinsic (``"xyz"``).
-    degrees : bool
-        Return degrees instead of radians.
     yaw_range : {"signed", "positive"}
         Range of the outer angle (about a reference axis): (-π, π] or, as Gajda (1.1), [0, 2π).
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

@@ -167,8 +167,6 @@ def change_frame(
         Reference frames before and after (both or neither).
     body_from, body_to : str, optional
         Body axes before and after (both or neither).
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

@@ -30,8 +30,6 @@ def as_scipy(q, *, check: bool = True):
     ----------
     q : array_like, shape (4,) or (n, 4)
         Non-zero quaternions ``[w, x, y, z]`` (scipy normalises them).
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

@@ -22,8 +22,6 @@ def as_matrix(q, *, check: bool = True) -> np.ndarray:
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions ``[w, x, y, z]``; a non-unit ``q`` gives the matrix of ``q / |q|``.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------

@@ -17,6 +17,21 @@ from .._support import validate as _v
 __all__ = ["as_mrp", "from_mrp", "shadow_mrp"]
 
 
+def _rows(kernel: str, arr: np.ndarray, width: int, recheck, check: bool) -> np.ndarray:
+    """The rows of ``arr`` converted by ``kernel`` of :mod:`._mrp_davenport_numba` into shape (..., width).
+
+    The kernel checks its input as it goes and returns the first bad row, or -1; with ``check``, ``recheck(arr)``
+    then raises the usual message for that input.
+    """
+    from . import _mrp_davenport_numba
+
+    rows = arr.reshape(-1, arr.shape[-1])
+    out = np.empty((rows.shape[0], width), dtype=arr.dtype)
+    if getattr(_mrp_davenport_numba, kernel)(rows, out) >= 0 and check:
+        recheck(arr)
+    return out.reshape((*arr.shape[:-1], width))
+
+
 def from_mrp(mrp, *, check: bool = True) -> np.ndarray:
     """Unit quaternions from modified Rodrigues parameters.
 
@@ -24,8 +39,6 @@ def from_mrp(mrp, *, check: bool = True) -> np.ndarray:
     ----------
     mrp : array_like, shape (..., 3)
         MRPs ``n tan(χ/4)``, short (|p| ≤ 1) or shadow (|p| ≥ 1) set.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -40,14 +53,7 @@ def from_mrp(mrp, *, check: bool = True) -> np.ndarray:
     >>> from_mrp([0.0, 0.0, 0.41421356237309503]).round(12)   # tan(22.5°): 90° about z
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
-    p = _v.vectors(mrp, "mrp", check=False)
-    rows = p.reshape(-1, 3)
-    out = np.empty((rows.shape[0], 4), dtype=p.dtype)
-    from ._mrp_davenport_numba import from_mrp_rows
-
-    if from_mrp_rows(rows, out) >= 0 and check:  # the kernel checks as it goes; the usual message from here
-        _v.vectors(p, "mrp")
-    return out.reshape((*p.shape[:-1], 4))
+    return _rows("from_mrp_rows", _v.vectors(mrp, "mrp", check=False), 4, lambda p: _v.vectors(p, "mrp"), check)
 
 
 def as_mrp(q, *, check: bool = True) -> np.ndarray:
@@ -57,8 +63,6 @@ def as_mrp(q, *, check: bool = True) -> np.ndarray:
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions (need not be normalised); ``q`` and ``-q`` give the same result.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
@@ -75,14 +79,7 @@ def as_mrp(q, *, check: bool = True) -> np.ndarray:
     >>> as_mrp([-np.cos(np.pi / 4), 0.0, 0.0, -np.sin(np.pi / 4)]).round(12)   # 90° about z, sign flipped
     array([0.        , 0.        , 0.41421356])
     """
-    q = _v.quaternions(q, "q", check=False)
-    rows = q.reshape(-1, 4)
-    out = np.empty((rows.shape[0], 3), dtype=q.dtype)
-    from ._mrp_davenport_numba import as_mrp_rows
-
-    if as_mrp_rows(rows, out) >= 0 and check:  # checked as it goes (see the kernel)
-        _v.quaternions(q, "q")
-    return out.reshape((*q.shape[:-1], 3))
+    return _rows("as_mrp_rows", _v.quaternions(q, "q", check=False), 3, lambda q: _v.quaternions(q, "q"), check)
 
 
 def shadow_mrp(mrp, *, check: bool = True) -> np.ndarray:
@@ -92,8 +89,6 @@ def shadow_mrp(mrp, *, check: bool = True) -> np.ndarray:
     ----------
     mrp : array_like, shape (..., 3)
         Non-zero MRPs (the identity, p = 0, has its shadow at infinity).
-    check : bool
-        Reject NaN, infinities and zero vectors (default).
 
     Returns
     -------

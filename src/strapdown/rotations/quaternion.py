@@ -11,10 +11,10 @@ Conventions (the same everywhere in strapdown)
 
 Input checks
 ------------
-All functions reject NaN and infinities with a ``ValueError`` that names the argument and the first bad row.
-``multiply``, ``conjugate`` and ``norm`` are plain algebra in the quaternions and accept a zero quaternion; every
-other function interprets its argument as a rotation or divides by its norm and rejects a zero quaternion.
-``check=False`` skips the checks (not the shape test) for hot code that has validated its input already.
+``check`` as everywhere in :mod:`strapdown.rotations`: NaN and infinities raise a ``ValueError`` that names the
+argument and the first bad row.  ``multiply``, ``conjugate`` and ``norm`` are plain algebra in the quaternions and
+accept a zero quaternion; every other function interprets its argument as a rotation or divides by its norm and
+rejects a zero quaternion.
 """
 
 from __future__ import annotations
@@ -89,9 +89,7 @@ def multiply(p, q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     p, q : array_like, shape (..., 4)
-        Quaternions ``[w, x, y, z]``; leading axes broadcast.
-    check : bool
-        Reject NaN and infinities (default).
+        The factors, in that order (zero allowed).
 
     Returns
     -------
@@ -128,19 +126,17 @@ def multiply(p, q, *, check: bool = True) -> np.ndarray:
 
 
 def conjugate(q, *, check: bool = True) -> np.ndarray:
-    """Conjugate ``q* = [w, -x, -y, -z]``; for a unit quaternion this is the inverse rotation.
+    """Conjugate ``q* = [w, -x, -y, -z]``.
 
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Quaternions.
-    check : bool
-        Reject NaN and infinities (default).
+        Quaternions, zero included (plain algebra).
 
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Conjugates.
+        The conjugates; for a unit quaternion, the inverse rotation.
 
     Examples
     --------
@@ -160,9 +156,8 @@ def norm(q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Quaternions.
-    check : bool
-        Reject NaN and infinities (default).
+        Quaternions of any finite size: with ``check`` (the default), components of 1e200 or 1e-200 get their
+        norms to rounding, where the sum of squares would overflow or underflow.
 
     Returns
     -------
@@ -198,9 +193,7 @@ def inverse(q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Quaternions of any non-zero norm (for a unit one the inverse is the conjugate).
 
     Returns
     -------
@@ -233,8 +226,6 @@ def normalize(q, method: str = "exact", *, check: bool = True) -> np.ndarray:
         ``1/√(|q|²)`` about 1 (nabbla part 9, eqs. 6-7): no division and no square root, for fixed-point or
         very small processors.  It leaves a norm error of about ``-(3/8) ε²`` where ``ε = |q|² - 1``, so it is
         meant for quaternions already close to unit norm (renormalising an integrator every few steps).
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
@@ -299,7 +290,7 @@ def exp(q, *, check: bool = True) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Exponentials.
+        Exponentials, of norm e^w: unit quaternions for pure ``q``.
 
     Examples
     --------
@@ -359,9 +350,7 @@ def log(q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Non-zero quaternions: the scalar part of the result is ln|q|.
 
     Returns
     -------
@@ -450,9 +439,7 @@ def rotate(q, v, *, check: bool = True) -> np.ndarray:
         Non-zero attitude quaternions (body to reference), any finite norm (1e200 and 1e-300 are exact: rows
         far from unit norm are scaled by a power of two first).
     v : array_like, shape (..., 3)
-        Vectors in the body frame; leading axes broadcast with those of ``q``.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Vectors in the body frame.
 
     Returns
     -------
@@ -495,9 +482,7 @@ def angle_between(p, q, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     p, q : array_like, shape (..., 4)
-        Non-zero quaternions; leading axes broadcast.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Non-zero quaternions.
 
     Returns
     -------
@@ -531,10 +516,8 @@ def slerp(p, q, t, *, check: bool = True) -> np.ndarray:
     p, q : array_like, shape (..., 4)
         Non-zero quaternions.
     t : array_like, shape (...)
-        Interpolation parameters (values outside [0, 1] extrapolate); all leading axes broadcast.  ``|t|`` times
-        the half angle between p and q must stay within ``1e-3/ε`` rad (4.5e12 in float64), as in :func:`power`.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Interpolation parameters (values outside [0, 1] extrapolate).  ``|t|`` times the half angle between p
+        and q must stay within ``1e-3/ε`` rad (4.5e12 in float64), as in :func:`power`.
 
     Returns
     -------
@@ -579,20 +562,17 @@ def canonical(q, *, check: bool = True) -> np.ndarray:
     """Pick one of ``±q`` by a total rule, removing the double cover (Liu et al.'s compressed quaternion space).
 
     The rule: ``w > 0``; on a tie (``w = 0``) ``x > 0``; then ``y > 0``; then ``z > 0``.  Signed zeros count as
-    ties and come out as ``+0.0``, so ``canonical(q)`` and ``canonical(-q)`` are bit-identical.  The norm is
-    kept (call :func:`normalize` first if you need unit quaternions).
+    ties and come out as ``+0.0``, so ``canonical(q)`` and ``canonical(-q)`` are bit-identical.
 
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Non-zero quaternions; the norm is kept (call :func:`normalize` first if you need unit ones).
 
     Returns
     -------
     numpy.ndarray, shape (..., 4)
-        Canonical quaternions.
+        ``q`` or ``-q``, whichever the rule picks.
 
     Examples
     --------

@@ -6,7 +6,8 @@
   Gibbs vector / Rodrigues parameters ``g = n tan(χ/2)`` (Shuster 1993) with ``convention="rodrigues"``.  It
   is infinite at χ = 180°.
 
-``as_*`` functions return angles in [0, π] (the shorter way round), so ``q`` and ``-q`` give the same result.
+``as_*`` functions take quaternions of any non-zero norm (the rotation of ``q / |q|``) and return angles in
+[0, π] (the shorter way round), so ``q`` and ``-q`` give the same result.
 """
 
 from __future__ import annotations
@@ -28,10 +29,6 @@ def from_rotvec(rotvec, degrees: bool = False, *, check: bool = True) -> np.ndar
     ----------
     rotvec : array_like, shape (..., 3)
         Rotation vectors; their length is the angle, in radians (or degrees with ``degrees=True``).
-    degrees : bool
-        Lengths in degrees.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------
@@ -65,11 +62,7 @@ def as_rotvec(q, degrees: bool = False, *, check: bool = True) -> np.ndarray:
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions (need not be normalised).
-    degrees : bool
-        Return lengths in degrees.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        Attitudes.
 
     Returns
     -------
@@ -101,10 +94,6 @@ def from_axis_angle(axis, angle, degrees: bool = False, *, check: bool = True) -
         Rotation axes; they are normalised, and must not be zero.
     angle : array_like, shape (...)
         Angles (right-handed about the axis), broadcast against the leading axes of ``axis``.
-    degrees : bool
-        Angles in degrees.
-    check : bool
-        Reject NaN, infinities and zero axes (default).
 
     Returns
     -------
@@ -144,11 +133,7 @@ def as_axis_angle(q, degrees: bool = False, *, check: bool = True) -> tuple[np.n
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Non-zero quaternions (need not be normalised).
-    degrees : bool
-        Return angles in degrees.
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
+        As for :func:`as_rotvec`.
 
     Returns
     -------
@@ -181,8 +166,6 @@ def from_gibbs(gibbs, convention: str = "gajda", *, check: bool = True) -> np.nd
         (``convention="rodrigues"``).  Must be finite: a 180° rotation has no Gibbs vector.
     convention : {"gajda", "rodrigues"}
         Which of the two scalings.
-    check : bool
-        Reject NaN and infinities (default).
 
     Returns
     -------

@@ -28,8 +28,6 @@ def tilt_from_quaternion(q, *, check: bool = True) -> tuple[np.ndarray, np.ndarr
     ----------
     q : array_like, shape (..., 4)
         Attitudes, sensor to a z-up reference frame (normalised here).
-    check : bool
-        Reject NaN, infinities and zero quaternions (default).
 
     Returns
     -------
@@ -124,8 +122,6 @@ def tilt_from_pitch_roll(pitch, roll, degrees: bool = False) -> np.ndarray:
     ----------
     pitch, roll : array_like, shape (...)
         Angles, radians (or degrees).
-    degrees : bool
-        Angles in degrees.
 
     Returns
     -------

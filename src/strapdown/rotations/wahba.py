@@ -166,7 +166,7 @@ def davenport(
     body : array_like, shape (..., m, 3)
         Observed directions in the body frame (any non-zero length).
     reference : array_like, shape (..., m, 3)
-        The same directions in the reference frame; leading axes broadcast with those of ``body``.
+        The same directions in the reference frame.
     weights : array_like, shape (..., m) or (m,), optional
         Non-negative weights ``a_i``, not all zero in an epoch (default: all 1).  Inverse variances 1/σ_i²
         (rad⁻²) make the covariance absolute.
@@ -185,11 +185,6 @@ def davenport(
         :func:`strapdown.rotations.quaternion.canonical`).
     covariance : numpy.ndarray, shape (..., 3, 3)
         Only with ``return_covariance=True``.
-
-    Raises
-    ------
-    ValueError
-        For invalid input, naming the argument and the first bad index.
 
     Notes
     -----
@@ -219,33 +214,13 @@ def quest(
 
     Parameters
     ----------
-    body : array_like, shape (..., m, 3)
-        Observed directions in the body frame (any non-zero length).
-    reference : array_like, shape (..., m, 3)
-        The same directions in the reference frame; leading axes broadcast with those of ``body``.
-    weights : array_like, shape (..., m) or (m,), optional
-        Non-negative weights ``a_i``, not all zero in an epoch (default: all 1).  Inverse variances 1/σ_i²
-        (rad⁻²) make the covariance absolute.
-    normalize : bool
-        Divide every vector by its length (default).  False: a pair's weight is ``a_i |b_i| |r_i|``, scipy's
-        ``align_vectors`` objective on the raw vectors.
-    return_covariance : bool
-        Also return Shuster's attitude-error covariance (module docstring: body frame, rad² for weights 1/σ²).
-    check : bool
-        Reject NaN, infinities, zero vectors, negative weights and all-zero weights (default).
+    body, reference, weights, normalize, return_covariance, check
+        As for :func:`davenport`.
 
     Returns
     -------
-    q : numpy.ndarray, shape (..., 4)
-        Unit attitude quaternions (body to reference), canonical sign (w ≥ 0): the same rotations as
-        :func:`davenport`.
-    covariance : numpy.ndarray, shape (..., 3, 3)
-        Only with ``return_covariance=True``.
-
-    Raises
-    ------
-    ValueError
-        For invalid input, naming the argument and the first bad index.
+    q, covariance
+        As for :func:`davenport`: the same rotations, canonical sign (w ≥ 0), and the same covariance.
 
     Notes
     -----
@@ -282,28 +257,16 @@ def olae(body, reference, weights=None, *, normalize: bool = True, check: bool =
 
     Parameters
     ----------
-    body : array_like, shape (..., m, 3)
-        Observed directions in the body frame (any non-zero length).
-    reference : array_like, shape (..., m, 3)
-        The same directions in the reference frame; leading axes broadcast with those of ``body``.
-    weights : array_like, shape (..., m) or (m,), optional
-        Non-negative weights ``a_i``, not all zero in an epoch (default: all 1).
+    body, reference, weights, check
+        As for :func:`davenport`.
     normalize : bool
-        Divide every vector by its length (default).  False: a pair's weight is ``a_i |b_i| |r_i|``, as in
-        :func:`davenport` (the vectors themselves are always used as unit vectors: OLAE's Cayley relation holds
-        only for vectors of equal length).
-    check : bool
-        Reject NaN, infinities, zero vectors, negative weights and all-zero weights (default).
+        As for :func:`davenport`; the vectors themselves are always used as unit vectors (OLAE's Cayley relation
+        holds only for vectors of equal length), so False changes only the weights.
 
     Returns
     -------
     numpy.ndarray, shape (..., 4)
         Unit attitude quaternions (body to reference), canonical sign (w ≥ 0).
-
-    Raises
-    ------
-    ValueError
-        For invalid input, naming the argument and the first bad index.
 
     Notes
     -----
@@ -364,7 +327,7 @@ def triad(b1, b2, r1, r2, *, check: bool = True):
         Two non-parallel directions measured in the body frame (any non-zero length).  ``b1`` is the trusted
         one: the result maps it exactly onto ``r1``.
     r1, r2 : array_like, shape (..., 3)
-        The same two directions in the reference frame.  All leading axes broadcast.
+        The same two directions in the reference frame.
     check : bool
         Reject NaN, infinities, zero vectors and parallel pairs (default).
 

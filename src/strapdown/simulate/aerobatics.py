@@ -12,7 +12,9 @@ three derivatives vanish, which leaves straddling samples an error far below 1e-
 
 Figures (functions returning segment lists, all starting and ending in level flight unless stated):
 :func:`level`, :func:`loop`, :func:`aileron_roll`, :func:`barrel_roll`, :func:`immelmann`, :func:`split_s`,
-:func:`hammerhead`, :func:`spin`; scenarios: :func:`hammerhead_loop`, :func:`aerobatic_show`.
+:func:`hammerhead`, :func:`spin`; scenarios: :func:`hammerhead_loop`, :func:`aerobatic_show`.  Every figure
+takes its ``duration`` in seconds and the airspeed ``speed`` in m/s, constant through the figure unless its
+docstring says otherwise; a scenario takes the airspeed of its level flight.
 """
 
 from __future__ import annotations
@@ -66,8 +68,6 @@ class Segment:
         Body (FRD) axis; normalised.  Ignored when angle is 0.
     angle : float
         Radians, right-handed about the axis.
-    duration : float
-        Seconds.
     ramp : float
         Seconds the rate takes to rise and to fall (at most duration / 2).
     speed : tuple of float
@@ -182,11 +182,16 @@ class Flight(Trajectory):
             v[m], dv[m] = self.segments[j].airspeed(s[m])
         return theta, rate, v, dv
 
+    def _motion(self, t):
+        """Attitude, body rate, airspeed and its rate of change at times t."""
+        t, idx, s = self._locate(t)
+        theta, rate, v, dv = self._per_segment(idx, s)
+        q = multiply(self._q_start[idx], from_rotvec(self._axes[idx] * theta[:, None]))
+        return q, self._axes[idx] * rate[:, None], v, dv
+
     def attitude(self, t):
         """See :meth:`Trajectory.attitude`."""
-        t, idx, s = self._locate(t)
-        theta, _, _, _ = self._per_segment(idx, s)
-        return multiply(self._q_start[idx], from_rotvec(self._axes[idx] * theta[:, None]))
+        return self._motion(t)[0]
 
     def rate(self, t):
         """See :meth:`Trajectory.rate`."""
@@ -212,10 +217,7 @@ class Flight(Trajectory):
 
     def specific_force(self, t):
         """``f_b = ω × v_b + v̇_b - Cᵀ g`` with ``v_b = (v, 0, 0)``: flight along the body x axis."""
-        t, idx, s = self._locate(t)
-        theta, rate, v, dv = self._per_segment(idx, s)
-        q = multiply(self._q_start[idx], from_rotvec(self._axes[idx] * theta[:, None]))
-        omega = self._axes[idx] * rate[:, None]
+        q, omega, v, dv = self._motion(t)
         g_body = rotate(q * [1.0, -1.0, -1.0, -1.0], np.broadcast_to(_G_NED, omega.shape))
         f = -g_body
         f[:, 0] += dv
@@ -225,10 +227,7 @@ class Flight(Trajectory):
 
     def acceleration(self, t):
         """See :meth:`Trajectory.acceleration`."""
-        t, idx, s = self._locate(t)
-        theta, rate, v, dv = self._per_segment(idx, s)
-        q = multiply(self._q_start[idx], from_rotvec(self._axes[idx] * theta[:, None]))
-        omega = self._axes[idx] * rate[:, None]
+        q, omega, v, dv = self._motion(t)
         a_body = np.stack([dv, omega[:, 2] * v, -omega[:, 1] * v], axis=-1)
         return rotate(q, a_body)
 
@@ -250,17 +249,10 @@ _X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
 def level(duration: float, speed: float = 60.0) -> list[Segment]:
     """Straight and level flight.
 
-    Parameters
-    ----------
-    duration : float
-        Seconds.
-    speed : float
-        Airspeed, m/s.
-
     Returns
     -------
     list of Segment
-        One segment.
+        One segment without rotation.
 
     Examples
     --------
@@ -274,17 +266,11 @@ def level(duration: float, speed: float = 60.0) -> list[Segment]:
 def loop(duration: float = 8.0, speed: float = 60.0) -> list[Segment]:
     """An inside loop: 360° of pitch, through the vertical climb, inverted at the top, the vertical dive.
 
-    Parameters
-    ----------
-    duration : float
-        Seconds.
-    speed : float
-        Airspeed, m/s (constant).
-
     Returns
     -------
     list of Segment
-        One segment.
+        One segment: 2π about the body y axis, the rate ramping up and down over 15 % of the duration
+        at each end.
 
     Examples
     --------
@@ -298,17 +284,10 @@ def loop(duration: float = 8.0, speed: float = 60.0) -> list[Segment]:
 def aileron_roll(duration: float = 4.0, speed: float = 60.0) -> list[Segment]:
     """A 360° roll about the body x axis.
 
-    Parameters
-    ----------
-    duration : float
-        Seconds.
-    speed : float
-        Airspeed, m/s.
-
     Returns
     -------
     list of Segment
-        One segment.
+        One segment: 2π about the body x axis, with ramps of 20 % of the duration.
 
     Examples
     --------
@@ -324,17 +303,13 @@ def barrel_roll(duration: float = 8.0, speed: float = 60.0, pitch_ratio: float =
 
     Parameters
     ----------
-    duration : float
-        Seconds.
-    speed : float
-        Airspeed, m/s.
     pitch_ratio : float
         Pitch rate / roll rate.
 
     Returns
     -------
     list of Segment
-        One segment.
+        One segment: 2π about the body axis ``(1, pitch_ratio, 0)``, with ramps of 15 % of the duration.
 
     Examples
     --------
@@ -345,20 +320,30 @@ def barrel_roll(duration: float = 8.0, speed: float = 60.0, pitch_ratio: float =
     return [Segment((1.0, pitch_ratio, 0.0), 2 * np.pi, duration, 0.15 * duration, (speed, speed), "barrel roll")]
 
 
+def _half_loop(duration: float, v0: float, v1: float, figure: str) -> Segment:
+    """The half loop of the Immelmann and the split-S: π about body y in 60 % of the figure's duration."""
+    return Segment(_Y, np.pi, 0.6 * duration, 0.15 * duration, (v0, v1), f"{figure} half loop")
+
+
+def _half_roll(duration: float, speed: float, figure: str) -> Segment:
+    """Their half roll: π about body x in the other 40 %."""
+    return Segment(_X, np.pi, 0.4 * duration, 0.1 * duration, (speed, speed), f"{figure} half roll")
+
+
 def immelmann(duration: float = 8.0, speed: float = 60.0) -> list[Segment]:
     """A half loop up to inverted flight, then a half roll to upright: the heading reverses, altitude gained.
 
+    The half loop is π about the body y axis in 60 % of the duration, the half roll π about x in the rest.
+
     Parameters
     ----------
-    duration : float
-        Seconds.
     speed : float
         Airspeed at the start, m/s (it drops by a third in the climb).
 
     Returns
     -------
     list of Segment
-        Two segments.
+        The half loop, then the half roll.
 
     Examples
     --------
@@ -367,10 +352,7 @@ def immelmann(duration: float = 8.0, speed: float = 60.0) -> list[Segment]:
     ['Immelmann half loop', 'Immelmann half roll']
     """
     slow = speed * 2 / 3
-    return [
-        Segment(_Y, np.pi, 0.6 * duration, 0.15 * duration, (speed, slow), "Immelmann half loop"),
-        Segment(_X, np.pi, 0.4 * duration, 0.1 * duration, (slow, slow), "Immelmann half roll"),
-    ]
+    return [_half_loop(duration, speed, slow, "Immelmann"), _half_roll(duration, slow, "Immelmann")]
 
 
 def split_s(duration: float = 8.0, speed: float = 45.0) -> list[Segment]:
@@ -378,15 +360,13 @@ def split_s(duration: float = 8.0, speed: float = 45.0) -> list[Segment]:
 
     Parameters
     ----------
-    duration : float
-        Seconds.
     speed : float
         Airspeed at the start, m/s (it grows by half in the dive).
 
     Returns
     -------
     list of Segment
-        Two segments.
+        The half roll, then the half loop: the Immelmann's segments in the other order.
 
     Examples
     --------
@@ -394,11 +374,7 @@ def split_s(duration: float = 8.0, speed: float = 45.0) -> list[Segment]:
     >>> len(split_s())
     2
     """
-    fast = speed * 1.5
-    return [
-        Segment(_X, np.pi, 0.4 * duration, 0.1 * duration, (speed, speed), "split-S half roll"),
-        Segment(_Y, np.pi, 0.6 * duration, 0.15 * duration, (speed, fast), "split-S half loop"),
-    ]
+    return [_half_roll(duration, speed, "split-S"), _half_loop(duration, speed, 1.5 * speed, "split-S")]
 
 
 def hammerhead(duration: float = 12.0, speed: float = 60.0) -> list[Segment]:
@@ -406,8 +382,6 @@ def hammerhead(duration: float = 12.0, speed: float = 60.0) -> list[Segment]:
 
     Parameters
     ----------
-    duration : float
-        Seconds.
     speed : float
         Airspeed in level flight, m/s; it falls to 5 m/s at the top of the climb.
 
@@ -444,15 +418,12 @@ def spin(turns: float = 2.0, duration: float = 10.0, speed: float = 30.0) -> lis
     ----------
     turns : float
         Full turns of autorotation.
-    duration : float
-        Seconds.
-    speed : float
-        Airspeed, m/s.
 
     Returns
     -------
     list of Segment
-        Three segments.
+        Entry (the nose dropped 60° about the body y axis), the autorotation (60 % of the duration) and the
+        recovery.
 
     Examples
     --------
@@ -474,11 +445,6 @@ def spin(turns: float = 2.0, duration: float = 10.0, speed: float = 30.0) -> lis
 def hammerhead_loop(speed: float = 60.0) -> Flight:
     """Gajda's test sequence: level, hammerhead, level, loop, level (30 s), heading north at the start.
 
-    Parameters
-    ----------
-    speed : float
-        Airspeed in level flight, m/s.
-
     Returns
     -------
     Flight
@@ -495,11 +461,6 @@ def hammerhead_loop(speed: float = 60.0) -> Flight:
 
 def aerobatic_show(speed: float = 60.0) -> Flight:
     """Every figure in turn, joined by 2 s of level flight in which the airspeed changes smoothly (76 s).
-
-    Parameters
-    ----------
-    speed : float
-        Airspeed in level flight, m/s.
 
     Returns
     -------

@@ -2,7 +2,12 @@
 
 Every field is SI: rad/s for gyros, m/s² for accelerometers, µT for magnetometers (the "sensor units" below),
 seconds for time.  The classmethods :meth:`TriadModel.gyro`, :meth:`TriadModel.accelerometer` and
-:meth:`TriadModel.magnetometer` take datasheet units and convert; the dataclasses store SI only.  What the models
+:meth:`TriadModel.magnetometer` take datasheet units and convert; the dataclasses store SI only.  Their
+arguments say their unit in their name, and four mean the same in all three: ``scale_factor_ppm``, the
+scale-factor errors in ppm (1 % = 10000 ppm), one per axis or one for all; ``misalignment_deg``, the cross-axis
+coupling in degrees, a matrix with zero diagonal or a scalar δ for the fixed pattern with δ in every
+off-diagonal element (no randomness: draw your own matrix for a random part); ``resolution_*``, one LSB (0 for
+none); and ``range_*``, the full-scale range ± (inf for none).  What the models
 do to readings is :func:`strapdown.simulate.imu.corrupt` and :func:`strapdown.simulate.imu.apply_clock` (whose
 module notes hold the error equations); the models are also what :mod:`strapdown.calibrate` measures.
 """
@@ -69,6 +74,14 @@ def _misalignment_deg(value, name: str) -> np.ndarray:
         _v.check_finite(arr, name)
         arr = float(arr) * (np.ones((3, 3)) - np.eye(3))
     return np.radians(_matrix3(arr, name))
+
+
+def _coupling(scale_factor_ppm, misalignment_deg) -> dict:
+    """The scale factor and misalignment fields from the datasheet constructors' ppm and degrees."""
+    return {
+        "scale_factor": 1e-6 * _vector3(scale_factor_ppm, "scale_factor_ppm"),
+        "misalignment": _misalignment_deg(misalignment_deg, "misalignment_deg"),
+    }
 
 
 def _one_density(a, b, name_a: str, name_b: str) -> tuple[float, float]:
@@ -200,15 +213,6 @@ class TriadModel:
             Angle random walk (deg/√h); it is 60 times the noise density in deg/s/√Hz.
         noise_density_deg_s_sqrt_hz : float
             The same white noise as a rate noise density (deg/s/√Hz); give this or ``arw_deg_sqrt_h``.
-        scale_factor_ppm : float or array_like, shape (3,)
-            Scale-factor errors (ppm; 1 % = 10000 ppm).
-        misalignment_deg : float or array_like, shape (3, 3)
-            Cross-axis coupling (deg): a matrix with zero diagonal, or a scalar δ for the fixed pattern with δ in
-            every off-diagonal element (no randomness: draw your own matrix for a random part).
-        resolution_deg_s : float
-            One LSB (deg/s), 0 for none.
-        range_deg_s : float
-            Full-scale range ± (deg/s).
 
         Returns
         -------
@@ -233,8 +237,7 @@ class TriadModel:
             bias=np.radians(_vector3(bias_deg_s, "bias_deg_s")),
             bias_random_walk=np.radians(_scalar(rate_random_walk_deg_s_sqrt_s, "rate_random_walk_deg_s_sqrt_s")),
             noise_density=np.radians(density),
-            scale_factor=1e-6 * _vector3(scale_factor_ppm, "scale_factor_ppm"),
-            misalignment=_misalignment_deg(misalignment_deg, "misalignment_deg"),
+            **_coupling(scale_factor_ppm, misalignment_deg),
             resolution=np.radians(_scalar(resolution_deg_s, "resolution_deg_s")),
             range=np.radians(_scalar(range_deg_s, "range_deg_s", allow_inf=True)),
         )
@@ -264,14 +267,6 @@ class TriadModel:
             Velocity random walk (m/s/√h); the noise density in m/s²/√Hz is this over 60.
         noise_density_ug_sqrt_hz : float
             The same white noise as a density (µg/√Hz); give this or ``vrw_m_s_sqrt_h``.
-        scale_factor_ppm : float or array_like, shape (3,)
-            Scale-factor errors (ppm).
-        misalignment_deg : float or array_like, shape (3, 3)
-            Cross-axis coupling (deg), as in :meth:`gyro`.
-        resolution_mg : float
-            One LSB (mg), 0 for none.
-        range_g : float
-            Full-scale range ± (g).
 
         Returns
         -------
@@ -295,8 +290,7 @@ class TriadModel:
             bias=1e-3 * G * _vector3(bias_mg, "bias_mg"),
             bias_random_walk=1e-3 * G * _scalar(rate_random_walk_mg_sqrt_s, "rate_random_walk_mg_sqrt_s"),
             noise_density=density,
-            scale_factor=1e-6 * _vector3(scale_factor_ppm, "scale_factor_ppm"),
-            misalignment=_misalignment_deg(misalignment_deg, "misalignment_deg"),
+            **_coupling(scale_factor_ppm, misalignment_deg),
             resolution=1e-3 * G * _scalar(resolution_mg, "resolution_mg"),
             range=G * _scalar(range_g, "range_g", allow_inf=True),
         )
@@ -326,14 +320,6 @@ class TriadModel:
             White-noise density (µT/√Hz); an rms noise σ per sample at a rate fs is ``σ / √fs``.
         soft_iron : array_like, shape (3, 3), optional
             Soft-iron matrix, identity by default.
-        scale_factor_ppm : float or array_like, shape (3,)
-            Scale-factor errors (ppm).
-        misalignment_deg : float or array_like, shape (3, 3)
-            Cross-axis coupling (deg), as in :meth:`gyro`.
-        resolution_uT : float
-            One LSB (µT), 0 for none.
-        range_uT : float
-            Full-scale range ± (µT).
 
         Returns
         -------
@@ -351,8 +337,7 @@ class TriadModel:
             bias=_vector3(bias_uT, "bias_uT"),
             bias_random_walk=_scalar(rate_random_walk_uT_sqrt_s, "rate_random_walk_uT_sqrt_s"),
             noise_density=_scalar(noise_density_uT_sqrt_hz, "noise_density_uT_sqrt_hz"),
-            scale_factor=1e-6 * _vector3(scale_factor_ppm, "scale_factor_ppm"),
-            misalignment=_misalignment_deg(misalignment_deg, "misalignment_deg"),
+            **_coupling(scale_factor_ppm, misalignment_deg),
             soft_iron=np.eye(3) if soft_iron is None else _matrix3(soft_iron, "soft_iron"),
             resolution=_scalar(resolution_uT, "resolution_uT"),
             range=_scalar(range_uT, "range_uT", allow_inf=True),

@@ -29,7 +29,7 @@ def scenario(name: str) -> Trajectory:
     Returns
     -------
     Trajectory
-        A new trajectory.
+        A new trajectory at every call (the random motion's seed is fixed, so it is the same motion).
 
     Examples
     --------

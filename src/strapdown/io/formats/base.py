@@ -36,3 +36,20 @@ class Format:
     options: tuple = ()
     table: bool = False
     description: str = field(default="", compare=False)
+
+
+def named_failure(path, name: str, open_: Callable):
+    """``open_()``, a failure to read ``path`` as a ``name`` file named as :func:`strapdown.io.open_source` names it.
+
+    ImportError (a missing extra) and FileNotFoundError pass as they are; any other error becomes a ValueError
+    that names the path (``<path> is not a readable csv file: <the reader's reason>``).
+    """
+    try:
+        return open_()
+    except (ImportError, FileNotFoundError):
+        raise
+    except ValueError as exc:
+        text = str(exc)
+        raise ValueError(text if str(path) in text else f"{path} is not a readable {name} file: {text}") from None
+    except Exception as exc:  # a corrupt file, or one without a header: named, with the reader's reason
+        raise ValueError(f"{path} is not a readable {name} file: {exc}") from None

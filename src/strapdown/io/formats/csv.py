@@ -19,7 +19,7 @@ import numpy as np
 
 from ..._support.deps import need
 from ..source import Source, _arrow_to_numpy, _window, check_chunk_rows
-from .base import Format
+from .base import Format, named_failure
 
 __all__ = ["CsvSource", "open_csv"]
 
@@ -262,7 +262,7 @@ def open_csv(path) -> CsvSource:
     Parameters
     ----------
     path : path-like
-        The file.
+        A CSV file with a header row.
 
     Returns
     -------
@@ -282,15 +282,7 @@ def open_csv(path) -> CsvSource:
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no such file: {path}")
-    try:
-        return CsvSource(path)
-    except (ImportError, FileNotFoundError):
-        raise
-    except ValueError as exc:
-        text = str(exc)
-        raise ValueError(text if str(path) in text else f"{path} is not a readable csv file: {text}") from None
-    except Exception as exc:  # a corrupt file, or one without a header: named, with the reader's reason
-        raise ValueError(f"{path} is not a readable csv file: {exc}") from None
+    return named_failure(path, "csv", lambda: CsvSource(path))
 
 
 #: This module's format, for :mod:`strapdown.io.registry`.

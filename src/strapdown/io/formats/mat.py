@@ -157,7 +157,7 @@ def expanded_size(path) -> int:
     Parameters
     ----------
     path : path-like
-        The file.
+        A MATLAB v4 or v5 file (v7.3 files are HDF5, and read in parts).
 
     Returns
     -------

@@ -11,7 +11,10 @@ Each function streams its input through the library's streaming objects (:class:
 and the estimators, whose ``update`` on chunks equals one call on everything), so memory stays constant whatever
 the file's size, and writes through :func:`strapdown.io.table_writer`: the output appears, whole, only when
 everything succeeded.  The options of a command are one frozen dataclass (:class:`IntegrateOptions`,
-:class:`EstimateOptions`), given whole or field by field as keyword arguments.
+:class:`EstimateOptions`), given whole (``options``, the defaults when None) or field by field as keyword
+arguments (``**changes``, by field name).  ``progress``, when given, is called with (rows done, total rows or
+None) after each chunk.  Every file function returns a :class:`Report`: the files, the rows and the time taken,
+and the notes a user should read.
 
 Timing of ``integrate_file``: row k holds the sample of step k, which runs from row k's time to row k+1's (the
 library's convention, :mod:`strapdown.propagate.integrate`); output row k is the attitude at row k's time, so the

@@ -196,8 +196,6 @@ def convert_file(
         Formats when the suffixes do not tell them.
     chunk_rows : int
         Rows per chunk.
-    progress : callable, optional
-        Called with (rows done, total rows or None) after each chunk.
     unit_from_names : bool
         Input columns whose names end in ``_deg`` or ``_rad`` hold angles in that unit: True takes it (for
         the input, and for the output too), False requires ``angles_in`` to agree (ValueError otherwise).
@@ -205,7 +203,7 @@ def convert_file(
     Returns
     -------
     Report
-        Files, rows and time taken.
+        ``rows``: the rows converted; ``read``: the input columns and their representation.
 
     Examples
     --------

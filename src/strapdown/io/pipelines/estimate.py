@@ -97,17 +97,13 @@ def estimate_file(path, output=None, options: EstimateOptions | None = None, *, 
         sensor.
     output : path-like, optional
         Output file; by default ``<stem>.estimate.csv`` (``.parquet`` for Parquet input) beside the input.
-    options : EstimateOptions, optional
-        What to run and how to read and write (the defaults when None).
-    progress : callable, optional
-        Called with (rows done, total rows or None) after each chunk.
-    **changes
-        Fields of :class:`EstimateOptions` to replace, by name (``estimator="mahony"``).
+    options, **changes
+        What to run and how to read and write: :class:`EstimateOptions` (``estimator="mahony"``).
 
     Returns
     -------
     Report
-        Files, rows and time taken; ``notes`` holds the gaps and a warning when the bias sits at its limit.
+        ``notes`` holds the gaps and a warning when the bias sits at its limit.
 
     Notes
     -----

@@ -139,17 +139,13 @@ def integrate_file(path, output=None, options: IntegrateOptions | None = None, *
     output : path-like, optional
         CSV, Parquet, HDF5 or .mat file; by default ``<stem>.integrate.csv`` (``.parquet`` for Parquet input)
         beside the input.  Written atomically.
-    options : IntegrateOptions, optional
-        How to integrate, read and write (the defaults when None).
-    progress : callable, optional
-        Called with (rows done, total rows or None) after each chunk.
-    **changes
-        Fields of :class:`IntegrateOptions` to replace, by name (``method="rk4"``).
+    options, **changes
+        How to integrate, read and write: :class:`IntegrateOptions` (``method="rk4"``).
 
     Returns
     -------
     Report
-        Files, rows and time taken.
+        ``rows``: the attitudes written, one per input row; ``notes``: the frames and the gaps.
 
     Examples
     --------

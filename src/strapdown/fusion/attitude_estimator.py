@@ -101,7 +101,6 @@ from .._support import validate as _v
 from .._support.renamed import renamed
 from ..rotations.quaternion import rotate
 from ._base import Estimator, params_of
-from ._inputs import _back_to_first_sample, _first_present
 from .estimate import Estimate, PiecewiseEstimate
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude"]
@@ -412,10 +411,10 @@ class AttitudeEstimator(Estimator):
         s[k.QG : k.QG + 4] = q
         s[k.QC] = 1.0
         s[k.EXS] = 1.0
-        ka = _first_present(acc, "acc")
+        ka, a0 = self._acc0
         # the filter starts at the first sample (in the start's averaging, then at rest: rate 0); a first sample
         # later than the first row is turned back to the sensor axes of the first row, which q is for
-        s[k.AFO : k.AFO + 3] = rotate(q, _back_to_first_sample(gyro, dts, ka, acc[ka]))
+        s[k.AFO : k.AFO + 3] = rotate(q, a0)
         s[k.RESTA : k.RESTA + 3] = acc[ka]
         s[k.ALAST : k.ALAST + 3] = acc[ka]
         s[k.MOLD] = -1.0

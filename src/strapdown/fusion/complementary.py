@@ -13,8 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._base import Estimator, batch_function, nonnegative
-from ._inputs import GRAVITY
+from ._base import GRAVITY, Estimator, batch_function, nonnegative
 from .estimate import Estimate
 
 __all__ = ["Complementary", "ComplementaryParams", "complementary"]

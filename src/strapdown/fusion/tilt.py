@@ -73,8 +73,7 @@ from .._support.renamed import renamed
 from ..rotations.euler import from_euler
 from ..rotations.quaternion import rotate
 from ..rotations.tilt import INVERTED_TOL, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
-from ._base import Estimator, float32_if, nonnegative
-from ._inputs import GRAVITY, _back_to_first_sample, _first_present
+from ._base import GRAVITY, Estimator, float32_if, nonnegative
 from .estimate import Estimate
 
 __all__ = [
@@ -317,8 +316,7 @@ class TiltEstimator(Estimator):
 
     def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         # the first tilt-sensor sample present, turned back to the axes of the first sample (q's)
-        k = _first_present(acc, "acc")
-        a0 = _back_to_first_sample(gyro, dts, k, acc[k])
+        k, a0 = self._acc0
         a_i = rotate(q, a0)
         return {
             "q": q.copy(),  # the estimate q_c ⊗ q_g

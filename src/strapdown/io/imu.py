@@ -24,7 +24,7 @@ import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .formats.multi import kind_of_file
-from .plausibility import TimeCheck, check_chunk, probe
+from .plausibility import check_chunk, probe
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
 from .units import (
@@ -411,7 +411,7 @@ class ImuFile:
         chunk_rows = check_chunk_rows(chunk_rows)
         # integer times (epoch ns) count from the file's first, in integers: as float64 they would lose 0.2 µs
         relative = self.time.fields if self.time is not None and not self._timestamps else ()
-        check = TimeCheck(self)
+        times = None  # the file's running time check, made by the first chunk's checks
         for row, cols in self.source.chunks(names, chunk_rows, start, stop, relative=relative):
             n = len(next(iter(cols.values()))) if cols else 0
             if self._timestamps:
@@ -421,12 +421,13 @@ class ImuFile:
             else:
                 t = (row + np.arange(n)) / self.rate
             raws = {kind: _assemble(cols, pick) for kind, pick in self.picks.items()}
-            check_chunk(self, cols, raws, t, row, check)  # every check before any product can overflow
+            times = check_chunk(self, cols, raws, t, row, times)  # every check before any product can overflow
             out = ImuChunk(row, t, gyro=None)
             for kind, raw in raws.items():
                 factor = scale(kind, self.units[kind])
                 # one field may be the reader's own (read-only) buffer: the product is then the copy to keep
-                setattr(out, kind, _in_si(raw, factor) if len(self.picks[kind].fields) > 1 else raw * factor)
+                # (x * 1.0 is x: a value already in SI is not copied again)
+                setattr(out, kind, raw if factor == 1.0 and len(self.picks[kind].fields) > 1 else raw * factor)
             for name, pick in self.extra.items():
                 values = _assemble(cols, pick)
                 if name == "known_acc" and "acc" in self.units:

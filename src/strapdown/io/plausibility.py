@@ -530,12 +530,13 @@ class TimeCheck:
         self.last = float(t[-1])
 
 
-def check_chunk(imu, cols: dict, raws: dict, t: np.ndarray, row: int, times: TimeCheck) -> None:
+def check_chunk(imu, cols: dict, raws: dict, t: np.ndarray, row: int, times: TimeCheck | None) -> TimeCheck:
     """Every check of one chunk of a file, in the order that names the first fault: values, time, magnitudes, units.
 
     ``cols`` are the chunk's fields as read, ``raws`` the readings of each sensor in the file's units, ``t`` the
-    times in seconds and ``times`` the file's running time check.
+    times in seconds and ``times`` the file's running time check (None for the first chunk), which is returned.
     """
+    times = TimeCheck(imu) if times is None else times
     n = t.shape[0]
     check_finite_rows(imu, cols, row, n)
     times(t, row)
@@ -544,6 +545,7 @@ def check_chunk(imu, cols: dict, raws: dict, t: np.ndarray, row: int, times: Tim
             check_magnitudes(imu, kind, raw, row, times.period)
             if imu.spec.unit_check:
                 check_units(imu, kind, raw, row, times.period)
+    return times
 
 
 def probe(imu, heads: dict) -> None:

@@ -26,9 +26,9 @@ from ..._support.files import scratch_dir
 from ..._support.pool import Runner, gather
 from ...propagate.integrate import AttitudeIntegrator, SingularityError, integrate
 from ...rotations.quaternion import multiply
-from ..plausibility import TimeCheck
 from ..conventions import time_metadata
 from ..imu import ImuColumns, ImuFile
+from ..plausibility import TimeCheck
 from ..readers import format_of, open_source
 from ..tables import OutputSpec, attitude_columns
 from ..writers import csv_comments, table_writer

@@ -247,8 +247,8 @@ def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
 
 
 def simulated() -> dict:
-    from strapdown.fusion import FLAG_MAG_REJECTED
     from strapdown.evaluate.metrics import attitude_errors
+    from strapdown.fusion import FLAG_MAG_REJECTED
     from strapdown.simulate import (
         ImuModel,
         MagneticDisturbance,
@@ -341,8 +341,8 @@ def irregular_inputs(trial, seed: int, fraction: float = 0.1):
 
 def irregular(trials) -> dict:
     """BROAD with irregular sampling: each variant's mean RMSE against the regular record's (issue 13)."""
-    from strapdown.fusion import tilt
     from strapdown.evaluate.metrics import rmse_errors
+    from strapdown.fusion import tilt
 
     cols = ("ours 9D total", "ours 6D incl.", "offline 9D total", "offline incl.", "Tilt 6D incl.")
     table: dict = {}

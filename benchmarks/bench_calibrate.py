@@ -136,8 +136,8 @@ def first_rotations(mag, moving, fit_seconds):
 
 def broad(folder: Path, fit_seconds: float) -> list[dict]:
     from strapdown.evaluate.broad import load_trials
-    from strapdown.fusion import attitude
     from strapdown.evaluate.metrics import rmse_errors
+    from strapdown.fusion import attitude
 
     rows = []
     for trial in load_trials(folder):

@@ -43,7 +43,8 @@ import numba
 marks.append((time.perf_counter(), time.process_time()))
 from strapdown import as_euler, from_matrix, multiply
 from strapdown.fusion import AttitudeEstimator
-import strapdown.rotations._matrix_numba, strapdown.rotations._quaternion_numba, strapdown.rotations._euler_numba, strapdown.fusion._attitude_numba
+import strapdown.rotations._matrix_numba, strapdown.rotations._quaternion_numba
+import strapdown.rotations._euler_numba, strapdown.fusion._attitude_numba
 marks.append((time.perf_counter(), time.process_time()))
 from_matrix(np.eye(3))
 marks.append((time.perf_counter(), time.process_time()))

@@ -175,8 +175,8 @@ def broad_results(folder: Path, repeat: int) -> dict:
 
 
 def bias_study() -> dict:
-    from strapdown.fusion import FLAG_REST
     from strapdown.evaluate.metrics import attitude_errors
+    from strapdown.fusion import FLAG_REST
     from strapdown.rotations.quaternion import rotate
     from strapdown.simulate import ImuModel, RockingPlatform, TriadModel, sample
 

@@ -50,8 +50,8 @@ import numpy as np
 import strapdown
 from _timing import best_time
 from strapdown import integrate
-from strapdown._support import threads as _threads
 from strapdown import quaternion as quat
+from strapdown._support import threads as _threads
 from strapdown._support.threads import choose
 
 

@@ -25,9 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
+from strapdown.evaluate.metrics import attitude_errors, error_quaternion
 from strapdown.fusion import AttitudeEstimator
 from strapdown.io import ImuColumns, read_imu, read_reference
-from strapdown.evaluate.metrics import attitude_errors, error_quaternion
 from strapdown.rotations.quaternion import conjugate, multiply
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from strapdown.fusion import TiltParams, attitude, attitude_offline, tilt
 from strapdown.evaluate.metrics import attitude_errors
+from strapdown.fusion import TiltParams, attitude, attitude_offline, tilt
 from strapdown.simulate import (
     ClockModel,
     ConstantRotation,

@@ -107,6 +107,10 @@ def module_page(module_name: str, modules: list[str]) -> str:
         lines.append(f".. {directive[e.kind]}:: {module_name}.{e.name}")
         if e.kind == "class":
             lines += ["   :members:", "   :show-inheritance:"]
+            # a class that gathers the methods of a private strapdown base (Attitude's algebra) shows them too
+            cls = getattr(mod, e.name)
+            if any(b.__module__.startswith(PACKAGE + ".") and b.__name__ != cls.__name__ for b in cls.__mro__[1:-1]):
+                lines += ["   :inherited-members:"]
         if e.kind == "data":
             lines += ["   :no-value:"]
         lines.append("")

@@ -24,9 +24,9 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from strapdown.fusion import FLAG_MAG_REJECTED, FLAG_REST, AttitudeEstimator, Madgwick, Mahony, attitude_offline
 from strapdown.evaluate.figures import angles_for_display, line_styles
 from strapdown.evaluate.metrics import attitude_errors, rmse
+from strapdown.fusion import FLAG_MAG_REJECTED, FLAG_REST, AttitudeEstimator, Madgwick, Mahony, attitude_offline
 
 try:
     HERE = Path(__file__).resolve().parent

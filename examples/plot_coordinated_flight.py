@@ -18,9 +18,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import strapdown as sd
-from strapdown.fusion import AttitudeEstimator, Madgwick, TiltEstimator
 from strapdown.evaluate.figures import line_styles
 from strapdown.evaluate.metrics import attitude_errors
+from strapdown.fusion import AttitudeEstimator, Madgwick, TiltEstimator
 from strapdown.simulate import ImuModel, aerobatic_show, sample
 
 show = aerobatic_show()

@@ -19,9 +19,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import strapdown as sd
-from strapdown.fusion import AttitudeEstimator, TiltEstimator
 from strapdown.evaluate.figures import line_styles
 from strapdown.evaluate.metrics import attitude_errors
+from strapdown.fusion import AttitudeEstimator, TiltEstimator
 from strapdown.simulate import ImuModel, RockingPlatform, sample
 
 chair = RockingPlatform(duration=180.0)

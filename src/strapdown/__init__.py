@@ -30,6 +30,7 @@ disk) the first time a function needs them.
 import sys as _sys
 
 from ._support.moved import install as _install_moved
+from ._support.version import VERSION as __version__
 from .propagate import interpolate
 from .propagate.integrate import METHODS, AttitudeIntegrator, SingularityError, integrate
 from .rotations import average, decompose, quaternion, wahba
@@ -48,7 +49,6 @@ from .rotations.rotvec import as_axis_angle, as_gibbs, as_rotvec, from_axis_angl
 # strapdown.integrate names the function here and, as a module path of release 0.1, the module: registered up front.
 _install_moved({"strapdown.integrate": _sys.modules["strapdown.propagate.integrate"]})
 
-from ._support.version import VERSION as __version__
 
 __all__ = [
     "METHODS",

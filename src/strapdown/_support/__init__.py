@@ -1,1 +1,1 @@
-"""Shared plumbing with no strapdown imports: validation, lazy exports, thread policy, atomic files (floor 0, private)."""
+"""Shared plumbing that imports nothing of strapdown: validation, lazy exports, threads, files (floor 0, private)."""

@@ -277,7 +277,6 @@ def allan(x, fs: float, *, units: str = "rad/s", max_cluster_fraction: float = 0
     >>> bool(np.all((result.arw_interval[:, 0] < 1e-3) & (1e-3 < result.arw_interval[:, 1])))
     True
     """
-
     arr = _v.as_float_array(x, "x", dtype=np.float64)
     if arr.ndim not in (1, 2):
         raise ValueError(f"x must have shape (N,) or (N, c), got shape {arr.shape}")

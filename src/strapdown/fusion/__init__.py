@@ -41,7 +41,7 @@ from .offline import attitude_offline
 from .registry import ESTIMATORS, EstimatorEntry, make_params
 from .tilt import TiltEstimator, TiltParams, tilt, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
 
-# strapdown.fusion.attitude names the function here and, as a module path of release 0.1, the estimator (online and offline)
+# strapdown.fusion.attitude names the function here and, as a module path of release 0.1, the estimator's module
 _install_moved({"strapdown.fusion.attitude": _sys.modules[__name__ + ".offline"]})
 
 __all__ = [
@@ -68,8 +68,8 @@ __all__ = [
     "complementary",
     "initial_attitude",
     "madgwick",
-    "make_params",
     "mahony",
+    "make_params",
     "tilt",
     "tilt_from_pitch_roll",
     "tilt_from_quaternion",

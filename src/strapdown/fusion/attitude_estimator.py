@@ -346,7 +346,8 @@ class AttitudeEstimator(Estimator):
     missing_samples = True
     compact_intervals = True
     checks_in_kernel = True
-    # state layout, checked when a state is restored (fusion/_base.py, _checked_state): the kernel indexes it without bounds checks
+    # state layout, checked when a state is restored (fusion/_base.py, _checked_state): the kernel indexes it
+    # without bounds checks
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
     _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
     _unit_keys = ("q", "q_gyro", "q_correction")

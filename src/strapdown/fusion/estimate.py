@@ -79,8 +79,8 @@ class Estimate:
     def tilt(self) -> np.ndarray:
         """Tilt quaternions e of ``q = q_z(ψ) ⊗ e`` (the Rowe patent's form, e3 = 0), shape (N, 4).
 
-        See :func:`strapdown.rotations.tilt.tilt_from_quaternion`; upside down gives the half turn (and ``FLAG_INVERTED``
-        in the flags of :class:`~strapdown.fusion.TiltEstimator`).
+        See :func:`strapdown.rotations.tilt.tilt_from_quaternion`; upside down gives the half turn (and
+        ``FLAG_INVERTED`` in the flags of :class:`~strapdown.fusion.TiltEstimator`).
         """
         from ..rotations.tilt import tilt_from_quaternion
 
@@ -128,6 +128,7 @@ class PiecewiseEstimate(Estimate):
 
     @property
     def bias(self) -> np.ndarray | None:
+        """The gyro bias of every sample, expanded from the segments on first use."""
         self._expand()
         return self._bias
 
@@ -137,6 +138,7 @@ class PiecewiseEstimate(Estimate):
 
     @property
     def extra(self) -> dict:
+        """The extra outputs of every sample, expanded from the segments on first use."""
         self._expand()
         return self._extra
 

@@ -316,7 +316,7 @@ class TiltEstimator(Estimator):
 
     def _new_state(self, q, gyro, acc, mag, dts, extra_in):
         # the first tilt-sensor sample present, turned back to the axes of the first sample (q's)
-        k, a0 = self._acc0
+        _, a0 = self._acc0
         a_i = rotate(q, a0)
         return {
             "q": q.copy(),  # the estimate q_c ⊗ q_g

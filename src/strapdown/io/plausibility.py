@@ -497,6 +497,7 @@ class TimeCheck:
         self.period: float | None = None if imu.rate is None else 1.0 / imu.rate
 
     def __call__(self, t: np.ndarray, row: int) -> None:
+        """Check the times ``t`` (s) of the chunk that starts at ``row``, after the chunks before it."""
         if t.size == 0:
             return
         imu = self.imu

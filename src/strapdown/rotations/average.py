@@ -49,8 +49,8 @@ def average_two(p, q, *, check: bool = True) -> np.ndarray:
     numpy.ndarray, shape (..., 4)
         Unit quaternions in the hemisphere of ``p``: the rotation halfway along the shorter arc from p to q, and
         the mean of the two (:func:`mean`).  When the two differ by exactly 180° (``p·q = 0``) every point of a
-        circle is a midpoint; ``sgn(0) = +1`` picks ``normalize(p + q)``, as :func:`strapdown.rotations.quaternion.slerp`
-        does.
+        circle is a midpoint; ``sgn(0) = +1`` picks ``normalize(p + q)``, as
+        :func:`strapdown.rotations.quaternion.slerp` does.
 
     Notes
     -----

@@ -3,7 +3,8 @@
 A rotation has two quaternions, ±q, and, at gimbal lock, infinitely many Euler triples.  Liu et al. restrict
 both spaces so that each attitude has exactly one representative and the two spaces map one-to-one:
 
-* **compressed quaternion space** (their (18); math.md §3.3 variant A): :func:`strapdown.rotations.quaternion.canonical`,
+* **compressed quaternion space** (their (18); math.md §3.3 variant A):
+  :func:`strapdown.rotations.quaternion.canonical`,
   w > 0, ties broken by x, then y, then z;
 * **compressed angle space** (their (1)): the paper's convention, ENU reference frame, body axes
   right-forward-up, ``C_b^n = R_z(ψ) R_x(θ) R_y(γ)`` (intrinsic ``"ZXY"``, their (6)), with

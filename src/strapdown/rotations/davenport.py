@@ -13,8 +13,8 @@ basis axes these are the Euler angles of :func:`strapdown.from_euler` (``"ZYX"``
 
 Ranges of :func:`as_davenport`: first and third angle in (-π, π]; the middle angle in ``[-λ, π - λ]``, where λ in
 [0, π] is the angle from n1 to n3 about n2 (λ = 0 for proper Euler sequences, π/2 for Tait-Bryan ones: then
-[-π/2, π/2]).  Gimbal lock is handled as in :mod:`strapdown.rotations.euler`: no threshold; only at the lock exactly is the
-third angle 0.
+[-π/2, π/2]).  Gimbal lock is handled as in :mod:`strapdown.rotations.euler`: no threshold; only at the lock
+exactly is the third angle 0.
 """
 
 from __future__ import annotations

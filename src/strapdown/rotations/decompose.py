@@ -202,8 +202,8 @@ def attitude_error(q, q_ref, *, frame: str = "body", rotvec: bool = False, check
     Returns
     -------
     numpy.ndarray, shape (..., 4) or (..., 3)
-        Unit error quaternions with w ≥ 0 (canonical sign, :func:`strapdown.rotations.quaternion.canonical`), or rotation
-        vectors.  Identical for ``±q`` and ``±q_ref``.
+        Unit error quaternions with w ≥ 0 (canonical sign, :func:`strapdown.rotations.quaternion.canonical`), or
+        rotation vectors.  Identical for ``±q`` and ``±q_ref``.
 
     Notes
     -----

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._support import validate as _v
 
-__all__ = ["G", "ClockModel", "ImuModel", "TriadModel"]
+__all__ = ["ClockModel", "G", "ImuModel", "TriadModel"]
 
 #: Standard gravity (m/s²), the "g" of accelerometer datasheets.
 G = 9.80665

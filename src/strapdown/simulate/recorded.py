@@ -1,10 +1,10 @@
 """Synthetic IMU data for a recorded motion (optical motion capture, a reference system) through the C² spline.
 
-Recorded attitudes go through :class:`strapdown.propagate.interpolate.RotationSpline` into gyro readings, with the sensor
+Recorded attitudes go through :class:`strapdown.propagate.spline.RotationSpline` into gyro readings, with the sensor
 errors of an :class:`~strapdown.simulate.ImuModel`.
 
 :class:`RecordedMotion` is a :class:`~strapdown.simulate.Trajectory` whose attitude is the
-:class:`strapdown.propagate.interpolate.RotationSpline` through the samples, so its body rate is the spline's (continuous,
+:class:`strapdown.propagate.spline.RotationSpline` through the samples, so its body rate is the spline's (continuous,
 with continuous angular acceleration) and every gyro form of :func:`~strapdown.simulate.sample` comes out
 consistent with the recording:
 

@@ -1,5 +1,7 @@
-"""What every file command shares: its options, the output side (time, gaps, one writer per segment), the report,
-output paths, metadata and messages naming file rows."""
+"""What every file command shares: its options, its output side, the report, and messages naming file rows.
+
+The output side is time from the first sample, the gaps, and one writer per segment file.
+"""
 
 from __future__ import annotations
 

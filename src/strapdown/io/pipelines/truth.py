@@ -173,7 +173,8 @@ def write_aligned(aligned: AlignedTruth, estimate, truth, folder) -> tuple[Path,
     Returns
     -------
     tuple of pathlib.Path
-        The estimate's table and the truth's, row by row the same instants, for :func:`strapdown.io.pipelines.plot.plot_file`.
+        The estimate's table and the truth's, row by row the same instants, for
+        :func:`strapdown.io.pipelines.plot.plot_file`.
     """
     from ..readers import read_metadata, read_table
     from ..writers import write_table

@@ -1,0 +1,228 @@
+"""What one does with attitudes that know their frames: inverse, composition, powers, means, changes of frame.
+
+The operations of :class:`~strapdown.Attitude` (private: the class gathers them; its module notes say how
+frames compose).  Every result is a new attitude of the same class, with the frames the algebra gives it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._support import validate as _v
+
+
+class AttitudeAlgebra:
+    """The operations of :class:`~strapdown.Attitude` on its stored unit quaternions ``_q`` and frame names."""
+
+    __slots__ = ()
+
+    def inv(self) -> AttitudeAlgebra:
+        """The inverse attitudes, reference to body: the frame names swap.
+
+        Returns
+        -------
+        Attitude
+            The conjugate quaternions, ``reference`` and ``body`` exchanged.
+        """
+        from .quaternion import conjugate
+
+        return type(self)._wrap(conjugate(self._q, check=False), self._body, self._reference)
+
+    def apply(self, vectors, inverse: bool = False) -> np.ndarray:
+        """Body vectors into the reference frame (or back with ``inverse=True``): ``v_ref = q ⊗ v_body ⊗ q*``.
+
+        Parameters
+        ----------
+        vectors : array_like, shape (..., 3)
+            Vectors in ``body`` axes (``reference`` axes with ``inverse=True``), any units; leading axes
+            broadcast against the attitudes' shape.
+        inverse : bool
+            Apply the inverse rotation, reference to body.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            The vectors in the other frame, same units.
+        """
+        from .quaternion import conjugate, rotate
+
+        q = conjugate(self._q, check=False) if inverse else self._q
+        # the attitudes were checked when the object was made: only the vectors need it
+        return rotate(q, _v.vectors(vectors, "vectors"), check=False)
+
+    def __mul__(self, other):
+        if not isinstance(other, AttitudeAlgebra):
+            return NotImplemented
+        from .quaternion import multiply
+
+        if self._body is not None and other._reference is not None and self._body != other._reference:
+            raise ValueError(self._mismatch(other))
+        return type(self)._wrap(multiply(self._q, other._q, check=False), self._reference, other._body)
+
+    def _mismatch(self, other: AttitudeAlgebra) -> str:
+        text = (
+            f"cannot compose: a * b applies b first, which maps {other._body!r} to {other._reference!r}, but a "
+            f"takes vectors from {self._body!r} (a maps {self._body!r} to {self._reference!r}); a's body axes must "
+            "be b's reference frame."
+        )
+        from .frames import _axes
+
+        try:
+            kinds = (_axes(self._body, "body")[0], _axes(other._reference, "reference")[0])
+        except ValueError:
+            kinds = None
+        if kinds and kinds[0] == kinds[1]:
+            return text + (
+                f" Re-express one of them: b.to_frame(reference={self._body!r}) or "
+                f"a.to_frame(body={other._reference!r})."
+            )
+        if all(_known(name) for name in (self._reference, self._body, other._reference, other._body)):
+            return text + (
+                f" If both are attitudes of bodies, put b in a's frames first, "
+                f"b.to_frame({self._reference!r}, {self._body!r}); the rotation from b's body to a's is a.inv() * b."
+            )
+        return text + " Check which frames each attitude maps (a.reference, a.body), or compose with a.inv()."
+
+    def __pow__(self, t) -> AttitudeAlgebra:
+        """Rotations by ``t`` times the angle (in [0, π], the shorter way) about the same axes, as scipy's.
+
+        ``from_rotvec(t · as_rotvec(q))``, so q and -q give the same result; ``a ** -1`` is ``a.inv()``.
+
+        Only a rotation between axes of the same name (``reference == body``, e.g. the relative rotation
+        ``a.inv() * b``) or with unnamed frames has powers: half of a body-to-NED attitude maps between no named
+        frames (for attitudes in between, use ``quaternion.slerp`` or
+        :class:`strapdown.propagate.interpolate.RotationSpline`).
+        """
+        from .rotvec import as_rotvec, from_rotvec
+
+        if isinstance(t, (int, np.integer)) and t == -1:
+            return self.inv()
+        if self._reference is not None and self._body is not None and self._reference != self._body:
+            raise ValueError(
+                f"a ** t needs a rotation between axes of the same name; this one maps {self._body!r} to "
+                f"{self._reference!r} (use a.inv() for the inverse, slerp or RotationSpline for attitudes in between)"
+            )
+        t = _v.finite(t, "t")
+        return self._like(from_rotvec(as_rotvec(self._q, check=False) * t[..., None].astype(self.dtype), check=False))
+
+    def magnitude(self) -> np.ndarray:
+        """Rotation angles of the attitudes, ``2 atan2(|v|, |w|)``.
+
+        Returns
+        -------
+        numpy.ndarray, shape ``self.shape``
+            Radians, in [0, π].
+        """
+        from .quaternion import _norm3
+
+        return 2 * np.arctan2(_norm3(self._q[..., 1:]), np.abs(self._q[..., 0]))
+
+    def approx_equal(self, other: AttitudeAlgebra, atol: float | None = None, degrees: bool = False) -> np.ndarray:
+        """Whether the rotation angle between ``self`` and ``other`` is at most ``atol``.
+
+        Parameters
+        ----------
+        other : Attitude
+            Attitudes with the same frames (a ValueError otherwise); shapes broadcast.
+        atol : float, optional
+            Largest angle, radians (degrees with ``degrees=True``); default 1e-8 rad.
+        degrees : bool
+            ``atol`` in degrees.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            One per attitude (q and -q count as equal).
+        """
+        from .quaternion import angle_between
+
+        if not isinstance(other, AttitudeAlgebra):
+            raise ValueError(f"other must be an Attitude, got {type(other).__name__}")
+        self._same_frames(other, "approx_equal")
+        tol = 1e-8 if atol is None else (np.deg2rad(atol) if degrees else atol)
+        return angle_between(self._q, other._q, check=False) <= tol
+
+    def _same_frames(self, other: AttitudeAlgebra, what: str) -> None:
+        for mine, theirs, name in ((self._reference, other._reference, "reference"), (self._body, other._body, "body")):
+            if mine is not None and theirs is not None and mine != theirs:
+                raise ValueError(
+                    f"{what}: the {name} frames differ ({mine!r} and {theirs!r}); re-express one with .to_frame"
+                )
+
+    def mean(self, weights=None, axis=None) -> AttitudeAlgebra:
+        """Weighted chordal L2 mean (Markley et al. 2007; :func:`strapdown.rotations.average.mean`), frames kept.
+
+        Parameters
+        ----------
+        weights : array_like, optional
+            Non-negative weights, broadcast against the attitudes; equal by default.
+        axis : int or tuple of int, optional
+            Axes of ``self.shape`` to average over (``-1`` is the last of them); all by default.
+
+        Returns
+        -------
+        Attitude
+            The mean attitude(s).
+        """
+        from .average import mean
+
+        if axis is not None:
+            # numbered in the Attitude's shape; average.mean numbers them in q's, whose last axis holds w, x, y, z
+            axes = (axis,) if isinstance(axis, (int, np.integer)) else tuple(axis)
+            nd = len(self.shape)
+            for ax in axes:
+                if not -nd <= ax < nd:
+                    raise ValueError(f"axis {ax} is out of range for an Attitude of shape {self.shape}")
+            axis = tuple(int(ax) % nd for ax in axes)
+        return self._like(mean(self._q, weights=weights, axis=axis))
+
+    def to_frame(self, reference: str | None = None, body: str | None = None) -> AttitudeAlgebra:
+        """The same physical attitudes expressed in other axes (:func:`strapdown.change_frame`).
+
+        Parameters
+        ----------
+        reference, body : str, optional
+            New reference frame and/or body axes, named by axis letters (``"ENU"``, ``"FLU"``, ...); None
+            keeps that side.  The current names must be letter names too.
+
+        Returns
+        -------
+        Attitude
+            The same rotations of the physical body, with the new names (``self`` when nothing changes).
+
+        Examples
+        --------
+        >>> from strapdown import Attitude
+        >>> a = Attitude.identity(reference="NED", body="FRD")
+        >>> b = a.to_frame("ENU", "FLU")          # nose north: 90° about ENU's up
+        >>> b.reference, b.body, b.as_quat(canonical=True).round(6)
+        ('ENU', 'FLU', array([0.707107, 0.      , 0.      , 0.707107]))
+        """
+        from .frames import change_frame
+
+        options = {}
+        for new, old, side in ((reference, self._reference, "ref"), (body, self._body, "body")):
+            if new is None or new == old:
+                continue
+            if old is None:
+                what = "reference frame" if side == "ref" else "body axes"
+                raise ValueError(f"this attitude's {what} has no name, so it cannot be re-expressed in {new!r}")
+            options[f"{side}_from"] = old
+            options[f"{side}_to"] = new
+        if not options:
+            return self
+        q = change_frame(self._q, check=False, **options)
+        return type(self)._wrap(
+            q, self._reference if reference is None else reference, self._body if body is None else body
+        )
+
+
+def _known(name) -> bool:
+    """Whether a frame name is made of axis letters that :mod:`strapdown.rotations.frames` can convert."""
+    from .frames import _axes
+
+    try:
+        _axes(name, "frame")
+    except ValueError:
+        return False
+    return True

@@ -364,7 +364,7 @@ class Attitude(AttitudeAlgebra):
 
     # ------------------------------------------------------------------------------------------------ conversions
     def as_quat(self, canonical: bool = False, *, scalar_first: bool = True) -> np.ndarray:
-        """A copy of the quaternions; ``canonical=True`` picks w ≥ 0 (:func:`~strapdown.rotations.quaternion.canonical`)."""
+        """A copy of the quaternions; ``canonical=True`` picks w ≥ 0 (:func:`~.quaternion.canonical`)."""
         from .quaternion import canonical as canon
 
         out = canon(self._q, check=False) if canonical else self._q.copy()

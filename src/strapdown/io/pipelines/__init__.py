@@ -23,7 +23,7 @@ output lines up with the input and the last sample, whose step ends after the fi
 per input row.
 """
 
-from ._common import Report, default_output
+from ._common import FileOptions, Report, default_output
 from .convert import convert_file, convert_values
 from .estimate import EstimateOptions, estimate_file, estimator_inputs
 from .integrate import IntegrateOptions, integrate_file, integrate_stream
@@ -31,6 +31,7 @@ from .simulate import simulate_file
 
 __all__ = [
     "EstimateOptions",
+    "FileOptions",
     "IntegrateOptions",
     "Report",
     "convert_file",

@@ -20,6 +20,8 @@ from ._common import (
     output_path,
 )
 
+__all__ = ["convert_file", "convert_values"]
+
 _QUAT_NAMES = (
     ("qw", "qx", "qy", "qz"),
     ("q_w", "q_x", "q_y", "q_z"),

@@ -25,6 +25,8 @@ from ._common import (
     with_progress,
 )
 
+__all__ = ["EstimateOptions", "estimate_file", "estimator_inputs"]
+
 
 def estimator_inputs(cls) -> tuple[str, ...]:
     """The extra keyword inputs an estimator's ``update`` takes (``known_acc``, ``pitch_roll``, ...).

@@ -26,6 +26,8 @@ from ._common import (
     with_progress,
 )
 
+__all__ = ["IntegrateOptions", "integrate_file", "integrate_stream"]
+
 
 def integrate_stream(
     chunks: Iterator, *, method=None, input="rate", rate_frame="body", q0=None, rate=None

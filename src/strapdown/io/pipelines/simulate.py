@@ -11,6 +11,8 @@ from ._common import (
     metadata,
 )
 
+__all__ = ["simulate_file"]
+
 _IMUS = ("ideal", "consumer", "tactical")
 
 

@@ -27,6 +27,15 @@ class Format:
         The options ``open`` accepts besides the path (``"topic"``).
     table : bool
         A plain table that :func:`strapdown.io.write_table` also writes (csv, parquet, hdf5, mat).
+    reference : callable, optional
+        ``reference(path, topic=None) -> dict`` for a log that records its own attitude estimate (PX4
+        ``vehicle_attitude``, ArduPilot ATT, a ROS ``Imu`` orientation): the keys ``t`` (s, the IMU's time
+        origin), ``q`` (n, 4, body to ``frame``), ``frame``, ``body``, ``time_origin`` and ``source`` (what was
+        read), the fields of :class:`strapdown.io.reference.Reference`; None when the format records none.
+    position : callable, optional
+        ``position(path) -> dict or None`` for a log that records where and when it was made (GPS): the keys
+        ``latitude_deg``, ``longitude_deg``, ``altitude_m`` and ``date`` (a ``datetime.date``, UTC), and
+        ``source``; None when this log holds no fix.
     """
 
     name: str
@@ -36,6 +45,8 @@ class Format:
     options: tuple = ()
     table: bool = False
     description: str = field(default="", compare=False)
+    reference: Callable | None = field(default=None, compare=False)
+    position: Callable | None = field(default=None, compare=False)
 
 
 def named_failure(path, name: str, open_: Callable):

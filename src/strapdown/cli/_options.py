@@ -319,6 +319,19 @@ def run_file(function, path, output, kwargs: dict, quiet: bool) -> None:
         click.echo(f"written: {report.output} ({report.rows} rows{more}, {report.seconds:.2f} s)")
 
 
+def say_compiling(needs, quiet: bool) -> None:
+    """Say on stderr, once, that this run compiles kernels for this machine (strapdown.apps.warmup.FIRST_RUN)."""
+    if quiet:
+        return
+    import click
+
+    from ..apps.warmup import compiling_notice
+
+    notice = compiling_notice(needs)
+    if notice:
+        click.echo(notice, err=True)
+
+
 def input_argument():
     import click
 

@@ -17,6 +17,7 @@ from ._options import (
     parse_q0,
     read_options,
     run_file,
+    say_compiling,
 )
 
 
@@ -72,4 +73,5 @@ def command(paths, **p):
     """
     from ..io import integrate_file
 
+    say_compiling(["integrate", "files"], p["quiet"])
     run_file(integrate_file, one_or_many(paths), p.get("output"), kwargs(p), p["quiet"])

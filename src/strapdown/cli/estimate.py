@@ -19,9 +19,8 @@ from ._options import (
     parse_params,
     parse_q0,
     read_options,
-    run_file,
-    say_compiling,
 )
+from ._run import run_file, say_compiling
 
 
 def kwargs(p: dict) -> dict:

@@ -16,9 +16,8 @@ from ._options import (
     output_spec,
     parse_q0,
     read_options,
-    run_file,
-    say_compiling,
 )
+from ._run import run_file, say_compiling
 
 
 def kwargs(p: dict) -> dict:

@@ -1,7 +1,7 @@
 """Compile strapdown's numba kernels now instead of at their first call: ``python -m strapdown.apps.warmup``.
 
 numba compiles each kernel lazily, for the argument types of its first call, and caches the machine code on
-disk (``cache=True``; in ``__pycache__`` beside the package, or under ``NUMBA_CACHE_DIR``).  The first call of
+disk (``cache=True``; in one folder per version of the kernels, see :mod:`strapdown._support.kernel_cache`).  The first call of
 a function after an install therefore pays the compilation (about a second per kernel, several for the
 parallel scan; docs/guide/performance.md has the measured figures) and every later process only loads the
 cache.  Running this module once after installing moves that cost to the install: it calls the common entry
@@ -31,7 +31,7 @@ __all__ = ["FIRST_RUN", "TASKS", "compiling_notice", "warmup"]
 
 
 def _integrate(dtype) -> None:
-    from ..propagate import integrate
+    from ..propagate.integrate import integrate
 
     rng = np.random.default_rng(0)
     g = rng.standard_normal((300, 3)).astype(dtype)

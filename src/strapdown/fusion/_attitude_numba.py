@@ -15,6 +15,7 @@ import numpy as np
 
 from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ._kernels_numba import (
+    copy_into,
     gap_rate,
     lowpass2,
     lowpass2_step,
@@ -84,11 +85,14 @@ N_SUMS = 30  # block sums: 14 acc regressors (12, 13 formed at the update), 7 ma
 # the accelerometer's seconds and departure from the filtered vector (26-29)
 
 
-@nb.njit(cache=True, inline="always", error_model="numpy")
+@nb.njit(cache=True, error_model="numpy")
 def kalman(x, P, H, z, R, nm, PHt, K, tmp):
     """In-place Kalman update of the NX-state x, P with nm <= 3 measurements z = H x + noise of variances R.
 
     Written for speed at the block rate: P is symmetric, so only its upper triangle is formed and mirrored.
+    A function of its own, not inlined: it runs once per block, and each inlined copy of its unrolled loops
+    lengthened the estimator's first compilation by seconds (benchmarks/bench_coldstart.py).  Callers pass
+    ``nm`` as ``np.int64(n)``: a literal would compile one specialisation per count.
     """
     for j in range(nm):
         for i in range(NX):
@@ -203,13 +207,13 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     a_init, a_cnt = s[AINIT], s[ACNT]
     asx, asy, asz = s[ASUM], s[ASUM + 1], s[ASUM + 2]
     x = np.empty(NX)
-    x[:6] = s[X : X + 6]
-    x[6:] = s[XA : XA + 3]
+    copy_into(x, 0, s, X, 6)
+    copy_into(x, 6, s, XA, 3)
     gpx, gpy, gpz, nominal = s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT]
     # a count out of range (a hand-made state) renormalises at the first step
     n_raw = int(s[QN]) if 0.0 <= s[QN] < RENORM_STEPS else RENORM_STEPS - 1
     sums = np.zeros(N_SUMS)
-    sums[:24] = s[ACC : ACC + 24]
+    copy_into(sums, 0, s, ACC, 24)
     sums[24] = s[W2]
     sums[25] = s[NMAG]
     # the accelerometer's departure from the filtered vector (sums 26-29), summed in registers over a block
@@ -219,11 +223,11 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     # the rest detector's state: gyro mean, accelerometer mean, seconds at rest, gyro scatter, last accelerometer
     # sample, and its last coefficient (index 11) for the interval of index 12
     rs = np.empty(13)
-    rs[0:3] = s[RESTG : RESTG + 3]
-    rs[3:6] = s[RESTA : RESTA + 3]
+    copy_into(rs, 0, s, RESTG, 3)
+    copy_into(rs, 3, s, RESTA, 3)
     rs[6] = s[REST]
     rs[7] = s[RESTV]
-    rs[8:11] = s[ALAST : ALAST + 3]
+    copy_into(rs, 8, s, ALAST, 3)
     rs[11] = 0.0
     rs[12] = -1.0
     rest = rs[6]
@@ -249,7 +253,9 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     # anew when the interval or the bias changes
     c_dt = -1.0
     kx = ky = kz = ex = ey = ez = 0.0
-    start = 0  # first sample of the current block in this chunk
+    # first sample of the current block in this chunk; typed int64, not Literal[int](0), which would compile
+    # _sums, _sums9 and _rest a second time for the literal
+    start = np.int64(0)
     n_seg = 0
     n = gyro.shape[0]
     for k in range(n):
@@ -377,20 +383,20 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     s[AFO], s[AFO + 1], s[AFO + 2] = mx, my, mz
     s[AINIT], s[ACNT] = a_init, a_cnt
     s[ASUM], s[ASUM + 1], s[ASUM + 2] = asx, asy, asz
-    s[X : X + 6] = x[:6]
-    s[XA : XA + 3] = x[6:]
-    s[ACC : ACC + 24] = sums[:24]
+    copy_into(s, X, x, 0, 6)
+    copy_into(s, XA, x, 6, 3)
+    copy_into(s, ACC, sums, 0, 24)
     s[W2] = sums[24]
     s[ALIN] = sums[26]
     s[ARES], s[ARES + 1], s[ARES + 2] = sums[27], sums[28], sums[29]
     s[NMAG] = sums[25]
     s[TB] = tb
     s[EXS], s[EXS + 1], s[EXS + 2] = sw, s1, s2
-    s[RESTG : RESTG + 3] = rs[0:3]
-    s[RESTA : RESTA + 3] = rs[3:6]
+    copy_into(s, RESTG, rs, 0, 3)
+    copy_into(s, RESTA, rs, 3, 3)
     s[REST] = rs[6]
     s[RESTV] = rs[7]
-    s[ALAST : ALAST + 3] = rs[8:11]
+    copy_into(s, ALAST, rs, 8, 3)
     s[TACC] = t_acc
     if n and dts[min(n - 1, last)] > 0.0:  # the last sample with an interval (gap_rate)
         gpx, gpy, gpz = gyro[n - 1, 0], gyro[n - 1, 1], gyro[n - 1, 2]
@@ -687,7 +693,7 @@ def _block(
     R[0] = rm
     R[1] = rm
     if not starting:  # while the start averages, the correction does not follow the low-pass the regression models
-        kalman(x, P, H, z, R, 2, PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
     if at_rest:
         for a in range(3):
             for j in range(NX):
@@ -697,7 +703,7 @@ def _block(
         z[0] = rgx
         z[1] = rgy
         z[2] = rgz
-        kalman(x, P, H, z, R, 3, PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(3), PHt, K, tmp)
     if not use_mag or t_mag <= 0.0:
         return
     # magnetometer: the field in the 6D frame, its norm and dip against a learned reference, the heading offset
@@ -768,7 +774,7 @@ def _block(
             H[0, j] = 0.0
         z[0] = s[V7 + 6] - step / T
         R[0] = (r_mag + kappa2 * w2) / T
-        kalman(x, P, H, z, R, 1, PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(1), PHt, K, tmp)
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})

@@ -274,3 +274,14 @@ def start_or_lowpass(ix, iy, iz, h, tau, a_init, a_cnt, asx, asy, asz, mx, my, m
         my, vy = lowpass2_step(my, vy, iy, p00, p01, p10, p11)
         mz, vz = lowpass2_step(mz, vz, iz, p00, p01, p10, p11)
     return a_init, a_cnt, asx, asy, asz, mx, my, mz, vx, vy, vz
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def copy_into(dst, d0, src, s0, n):
+    """dst[d0 : d0 + n] = src[s0 : s0 + n] as a loop.
+
+    A slice assignment between arrays makes numba compile its broadcasting check, whose error message pulls in
+    numba's whole string formatting: seconds of a cold first call for one line (benchmarks/bench_coldstart.py).
+    """
+    for i in range(n):
+        dst[d0 + i] = src[s0 + i]

@@ -12,6 +12,7 @@ import numpy as np
 
 from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ._kernels_numba import (
+    copy_into,
     gap_rate,
     lowpass2,
     lowpass2_step,
@@ -128,7 +129,9 @@ def run(
     r0, r1, r2 = s[GLP], s[GLP + 1], s[GLP + 2]  # gyro mean (rest detection)
     u0, u1, u2 = s[ALP], s[ALP + 1], s[ALP + 2]  # tilt-sensor mean (rest detection)
     rest = s[REST]
-    kp = s[COV : COV + NX * NX].copy().reshape(NX, NX)
+    kp = np.empty((NX, NX))  # filled and stored by loops (copy_into's note)
+    for i in range(NX):
+        copy_into(kp[i], 0, s, COV + i * NX, NX)
     kx = np.empty(NX)
     kh = np.zeros(NX)
     ku = np.empty(NX)
@@ -316,8 +319,9 @@ def run(
     s[REST] = rest
     s[GPREV], s[GPREV + 1], s[GPREV + 2], s[NOMDT] = gpx, gpy, gpz, nominal
     s[ATIME], s[ALAST], s[ALAST + 1], s[ALAST + 2] = t_acc, hx, hy, hz
-    s[COV : COV + NX * NX] = kp.ravel()
-    s[DRIFT : DRIFT + 2 * ND] = d
+    for i in range(NX):
+        copy_into(s, COV + i * NX, kp[i], 0, NX)
+    copy_into(s, DRIFT, d, 0, 2 * ND)
     s[SCALE], s[SCALE + 1], s[SCALE + 2] = k0, k1, k2
     s[BLOCK] = blk
     s[START], s[START + 1], s[START + 2], s[START + 3], s[START + 4] = a_init, asx, asy, asz, a_cnt

@@ -151,12 +151,16 @@ if __name__ == "__main__":
 #: and the seconds its compilation took on the reference machine, an idle 2-core AMD EPYC VM; benchmarks/
 #: bench_coldstart.py measures them).  The command line says so before it starts (:func:`compiling_notice`).
 FIRST_RUN = {
-    "estimator:attitude": ("the attitude estimator", [("fusion/_attitude_numba.py", "run")], 10),
+    "estimator:attitude": ("the attitude estimator", [("fusion/_attitude_numba.py", "run")], 12),
     "estimator:tilt": ("the tilt estimator", [("fusion/_tilt_numba.py", "run")], 4),
     "estimator:mahony": ("the Mahony filter", [("fusion/_mahony_numba.py", "run")], 2),
     "estimator:madgwick": ("the Madgwick filter", [("fusion/_madgwick_numba.py", "run")], 2),
     "estimator:complementary": ("the complementary filter", [("fusion/_complementary_numba.py", "run")], 2),
-    "integrate": ("the integrator", [("propagate/_integrate_numba.py", "sequential")], 3),
+    "integrate": (
+        "the integrator",
+        [("propagate/_integrate_numba.py", "sequential"), ("propagate/_integrate_numba.py", "scan_serial")],
+        12,
+    ),
     "files": ("the output columns", [("io/_columns_numba.py", "quat_euler_columns")], 2),
 }
 

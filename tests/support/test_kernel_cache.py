@@ -14,16 +14,8 @@ from strapdown._support import kernel_cache
 # A child compiles (or loads) the integrator's sequential loop and says how many strapdown kernels numba compiled.
 CHILD = r"""
 import json
-from numba.core import event
-compiled = []
-class L(event.Listener):
-    def on_start(self, ev):
-        f = ev.data["dispatcher"].py_func
-        if f.__module__.startswith("strapdown"):
-            compiled.append(f.__module__ + "." + f.__name__)
-    def on_end(self, ev):
-        pass
-event.register("numba:compile", L())
+from strapdown._support.kernel_cache import count_compilations
+compiled = count_compilations()
 import numpy as np, strapdown
 from strapdown._support import kernel_cache
 strapdown.integrate(np.zeros((10, 3)), 0.01, parallel=False)

@@ -122,6 +122,32 @@ def cached(module_file: str, function: str) -> bool:
     return where.is_dir() and any(where.glob(f"{stem}.{function}-*.nbi"))
 
 
+def count_compilations() -> list[str]:
+    """Start recording which strapdown kernels numba compiles in this process (not those it loads from a cache).
+
+    Returns
+    -------
+    list of str
+        Filled as compilations start, with ``"module.function"`` names: empty in a process whose kernels all
+        come from the cache (the tests and benchmarks/bench_coldstart.py check that with it).
+    """
+    from numba.core import event
+
+    compiled: list[str] = []
+
+    class _Count(event.Listener):
+        def on_start(self, ev):
+            f = ev.data["dispatcher"].py_func
+            if f.__module__.startswith("strapdown"):
+                compiled.append(f"{f.__module__}.{f.__name__}")
+
+        def on_end(self, ev):
+            pass
+
+    event.register("numba:compile", _Count())
+    return compiled
+
+
 def _prune() -> None:
     """Remove the folders of other kernel versions that nothing has used for 90 days."""
     try:

@@ -29,13 +29,27 @@ def _unit_again(q: np.ndarray) -> np.ndarray:
 def _compose(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """``p ⊗ q`` of two stored (valid, unit) quaternion arrays, broadcast, brought back to unit norm."""
     from ._quaternion_numba import multiply_unit_rows
-    from .quaternion import _rows
 
-    shape = _v.broadcast(("a", p.shape[:-1]), ("b", q.shape[:-1]))
+    # the stored arrays are C-contiguous: flat views cost nothing; the common cases skip the general broadcast
+    if p.shape == q.shape or q.ndim == 1:
+        shape = p.shape
+    elif p.ndim == 1:
+        shape = q.shape
+    else:
+        shape = (*_v.broadcast(("a", p.shape[:-1]), ("b", q.shape[:-1])), 4)
     dtype = np.result_type(p, q)
-    out = np.empty((int(np.prod(shape)), 4), dtype=dtype)
-    multiply_unit_rows(_rows(p, shape, dtype), _rows(q, shape, dtype), out)
-    return out.reshape((*shape, 4))
+    out = np.empty(shape, dtype=dtype)
+    multiply_unit_rows(_flat(p, shape, dtype), _flat(q, shape, dtype), out.reshape(-1))
+    return out
+
+
+def _flat(a: np.ndarray, shape: tuple, dtype) -> np.ndarray:
+    """The (4n,) components of ``a`` broadcast to ``shape``, or its 4 when it is one quaternion."""
+    if a.dtype != dtype:
+        a = a.astype(dtype)
+    if a.shape != shape and a.size != 4:
+        a = np.broadcast_to(a, shape)
+    return np.ascontiguousarray(a).reshape(-1)
 
 
 def _exponent(t) -> float:
@@ -269,9 +283,7 @@ class AttitudeAlgebra:
         for value, name in ((left, "left"), (right, "right")):
             if value is not None and not isinstance(value, AttitudeAlgebra):
                 raise TypeError(f"{name} must be an Attitude or None, got {type(value).__name__}")
-        _, i, j = reduce(
-            self._q, None if left is None else left._q, None if right is None else right._q, check=False
-        )
+        _, i, j = reduce(self._q, None if left is None else left._q, None if right is None else right._q, check=False)
         out = self
         if left is not None:
             out = left[i] if not left.single else left

@@ -68,21 +68,35 @@ def unit_again(w, x, y, z):
 
 @nb.njit(cache=True)
 def multiply_unit_rows(p, q, out):
-    """out[n] = p[n] ⊗ q[n] brought back to unit norm (:func:`unit_again`), for unit p and q; broadcasting as
-    :func:`multiply_rows`.  The composition of :class:`strapdown.Attitude`: without it rounding grows |q| by
-    a few ulps per product, geometrically in chains such as ``r = r * p * r`` (|q| - 1 = 0.28 after 50)."""
-    n_rows = out.shape[0]
-    p_step = 1 if p.shape[0] > 1 else 0
-    q_step = 1 if q.shape[0] > 1 else 0
-    for n in range(n_rows):
-        i = n * p_step
-        j = n * q_step
-        w, x, y, z = qmul(p[i, 0], p[i, 1], p[i, 2], p[i, 3], q[j, 0], q[j, 1], q[j, 2], q[j, 3])
-        w, x, y, z = unit_again(w, x, y, z)
-        out[n, 0] = w
-        out[n, 1] = x
-        out[n, 2] = y
-        out[n, 3] = z
+    """Out = p ⊗ q brought back to unit norm (:func:`unit_again`), for unit p and q, on flat (4n,) views.
+
+    The composition of :class:`strapdown.Attitude`: without it rounding grows |q| by a few ulps per product,
+    geometrically in chains such as ``r = r * p * r`` (|q| - 1 = 0.28 after 50).  p and q have 4n components
+    each, or 4 (one quaternion for every row).  Flat indexing and one loop per case, with a single quaternion
+    held in locals, let the compiler keep the Newton step at no cost over :func:`multiply_rows`
+    (benchmarks/bench_composition.py).
+    """
+    m = out.shape[0] // 4
+    if p.shape[0] == q.shape[0]:
+        for n in range(m):
+            k = 4 * n
+            w, x, y, z = qmul(p[k], p[k + 1], p[k + 2], p[k + 3], q[k], q[k + 1], q[k + 2], q[k + 3])
+            w, x, y, z = unit_again(w, x, y, z)
+            out[k], out[k + 1], out[k + 2], out[k + 3] = w, x, y, z
+    elif q.shape[0] == 4:
+        bw, bx, by, bz = q[0], q[1], q[2], q[3]
+        for n in range(m):
+            k = 4 * n
+            w, x, y, z = qmul(p[k], p[k + 1], p[k + 2], p[k + 3], bw, bx, by, bz)
+            w, x, y, z = unit_again(w, x, y, z)
+            out[k], out[k + 1], out[k + 2], out[k + 3] = w, x, y, z
+    else:
+        aw, ax, ay, az = p[0], p[1], p[2], p[3]
+        for n in range(m):
+            k = 4 * n
+            w, x, y, z = qmul(aw, ax, ay, az, q[k], q[k + 1], q[k + 2], q[k + 3])
+            w, x, y, z = unit_again(w, x, y, z)
+            out[k], out[k + 1], out[k + 2], out[k + 3] = w, x, y, z
 
 
 @nb.njit(cache=True)
@@ -97,7 +111,9 @@ def best_reduction_rows(p, left, right, left_best, right_best):
         bi = 0
         bj = 0
         for j in range(right.shape[0]):
-            mw, mx, my, mz = qmul(p[n, 0], p[n, 1], p[n, 2], p[n, 3], right[j, 0], right[j, 1], right[j, 2], right[j, 3])
+            mw, mx, my, mz = qmul(
+                p[n, 0], p[n, 1], p[n, 2], p[n, 3], right[j, 0], right[j, 1], right[j, 2], right[j, 3]
+            )
             for i in range(left.shape[0]):
                 s = abs(left[i, 0] * mw - left[i, 1] * mx - left[i, 2] * my - left[i, 3] * mz)
                 if s > best or (s == best and (i < bi or (i == bi and j < bj))):

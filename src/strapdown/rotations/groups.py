@@ -87,10 +87,10 @@ def create_group(group: str, axis: str = "Z") -> np.ndarray:
     --------
     >>> from strapdown.rotations.groups import create_group
     >>> create_group("C4").round(6)                    # 0, 90, 180, 270 deg about z
-    array([[1.      , 0.      , 0.      , 0.      ],
-           [0.707107, 0.      , 0.      , 0.707107],
-           [0.      , 0.      , 0.      , 1.      ],
-           [0.707107, 0.      , 0.      , -0.707107]])
+    array([[ 1.      ,  0.      ,  0.      ,  0.      ],
+           [ 0.707107,  0.      ,  0.      ,  0.707107],
+           [ 0.      ,  0.      ,  0.      ,  1.      ],
+           [ 0.707107,  0.      ,  0.      , -0.707107]])
     >>> len(create_group("I")), len(create_group("D3", axis="x"))
     (60, 6)
     """

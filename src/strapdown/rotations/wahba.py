@@ -534,7 +534,8 @@ def align_vectors(a, b, weights=None, *, return_sensitivity: bool = False, check
         raise ValueError(f"only one weight may be infinite; weights {np.flatnonzero(infinite).tolist()} are")
     if return_sensitivity and (m == 1 or infinite.any()):
         raise ValueError(
-            "return_sensitivity: with " + ("a single vector pair" if m == 1 else "an infinite weight")
+            "return_sensitivity: with "
+            + ("a single vector pair" if m == 1 else "an infinite weight")
             + " the rotation is fixed exactly, not estimated, so it has no sensitivity matrix"
         )
     if m == 1 or infinite.any():

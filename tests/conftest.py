@@ -87,3 +87,9 @@ def strapdown_cli(*args, timeout=180, cwd=None):
         env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env["PYTHONPATH"].split(os.pathsep))
     command = [sys.executable, "-m", "strapdown.cli", *map(str, args)]
     return subprocess.run(command, capture_output=True, text=True, timeout=timeout, cwd=cwd, env=env)
+
+
+def pytest_configure(config):
+    # the marks of scipy's own test modules, which tests/rotations/test_scipy_*.py run against strapdown
+    for mark in ("skip_xp_backends", "xfail_xp_backends"):
+        config.addinivalue_line("markers", f"{mark}: scipy's array-backend marks (only numpy runs here)")

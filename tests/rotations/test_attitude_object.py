@@ -1,4 +1,4 @@
-"""strapdown.Attitude: scipy's Rotation-object cases (test_rotation.py) re-expressed, plus what frames add."""
+"""strapdown.Attitude: what frames add, storage, cross-checks with scipy (its own suite: test_scipy_rotation.py)."""
 
 import pickle
 

@@ -7,7 +7,8 @@ Inside the floor the modules import downwards in this order:
   :mod:`.davenport`, :mod:`.mrp`, :mod:`.rotvec` (rotation vector, axis-angle, Gibbs), :mod:`.cayley_klein`,
   :mod:`.compressed` (Liu et al.), :mod:`.tilt` (Rowe's yaw-free tilt quaternion) and :mod:`.interop` (scipy);
 * operations on attitudes: :mod:`.frames` (named reference frames and body axes), :mod:`.average` (means and
-  distances), :mod:`.decompose` (swing-twist, shortest arc), :mod:`.wahba` (attitude from vector observations);
+  distances), :mod:`.decompose` (swing-twist, shortest arc), :mod:`.wahba` (attitude from vector observations),
+  :mod:`.groups` (the symmetry groups of solids and reduction by them);
 * :mod:`.attitude`: the frame-tagged :class:`~strapdown.Attitude` object over all of them.
 
 The top-level package re-exports the conversions; this floor imports only :mod:`strapdown._support`.
@@ -41,6 +42,7 @@ __all__ = sorted(
             "decompose",
             "euler",
             "frames",
+            "groups",
             "interop",
             "matrix",
             "mrp",

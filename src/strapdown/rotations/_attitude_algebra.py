@@ -1,14 +1,69 @@
 """What one does with attitudes that know their frames: inverse, composition, powers, means, changes of frame.
 
 The operations of :class:`~strapdown.Attitude` (private: the class gathers them; its module notes say how
-frames compose).  Every result is a new attitude of the same class, with the frames the algebra gives it.
+frames compose and which sign a result takes).  Every result is a new attitude of the same class, with the
+frames the algebra gives it, and unit quaternions: where rounding would let the norm grow (products, powers,
+means, changes of frame) the result is brought back to unit norm (``_unit_again``), so that ``r = r * p * r``
+repeated, or ``x = x * x``, stays unit to rounding (|q| - 1 ≤ 4e-16) instead of drifting geometrically.
 """
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from .._support import validate as _v
+
+_DEFAULT_ATOL = 1e-8  # rad: approx_equal's default, scipy's
+
+
+def _unit_again(q: np.ndarray) -> np.ndarray:
+    """Quaternions off unit norm by rounding only, brought back by one Newton step for 1/|q|, ``(3 - |q|²)/2``.
+
+    The numpy twin of ``_quaternion_numba.unit_again`` (which says why this beats ``q / |q|``).
+    """
+    return q * ((3 - np.einsum("...i,...i->...", q, q)) / 2)[..., None]
+
+
+def _compose(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """``p ⊗ q`` of two stored (valid, unit) quaternion arrays, broadcast, brought back to unit norm."""
+    from ._quaternion_numba import multiply_unit_rows
+
+    # the stored arrays are C-contiguous: flat views cost nothing; the common cases skip the general broadcast
+    if p.shape == q.shape or q.ndim == 1:
+        shape = p.shape
+    elif p.ndim == 1:
+        shape = q.shape
+    else:
+        shape = (*_v.broadcast(("a", p.shape[:-1]), ("b", q.shape[:-1])), 4)
+    dtype = np.result_type(p, q)
+    out = np.empty(shape, dtype=dtype)
+    multiply_unit_rows(_flat(p, shape, dtype), _flat(q, shape, dtype), out.reshape(-1))
+    return out
+
+
+def _flat(a: np.ndarray, shape: tuple, dtype) -> np.ndarray:
+    """The (4n,) components of ``a`` broadcast to ``shape``, or its 4 when it is one quaternion."""
+    if a.dtype != dtype:
+        a = a.astype(dtype)
+    if a.shape != shape and a.size != 4:
+        a = np.broadcast_to(a, shape)
+    return np.ascontiguousarray(a).reshape(-1)
+
+
+def _exponent(t) -> float:
+    """The exponent of ``a ** t`` as one float: a number, or an array of one element (shape () or (1,))."""
+    arr = np.asarray(t)
+    if arr.dtype.kind not in "iuf" or arr.ndim > 1 or arr.size != 1:
+        raise ValueError(
+            f"a ** t takes one real exponent (a number, or an array of shape () or (1,)); got {t!r}. For one "
+            "exponent per attitude use strapdown.from_rotvec(t[..., None] * a.as_rotvec())"
+        )
+    value = float(arr.reshape(()))
+    if not np.isfinite(value):
+        raise ValueError(f"a ** t needs a finite exponent, got {value}")
+    return value
 
 
 class AttitudeAlgebra:
@@ -53,11 +108,9 @@ class AttitudeAlgebra:
     def __mul__(self, other):
         if not isinstance(other, AttitudeAlgebra):
             return NotImplemented
-        from .quaternion import multiply
-
         if self._body is not None and other._reference is not None and self._body != other._reference:
             raise ValueError(self._mismatch(other))
-        return type(self)._wrap(multiply(self._q, other._q, check=False), self._reference, other._body)
+        return type(self)._wrap(_compose(self._q, other._q), self._reference, other._body)
 
     def _mismatch(self, other: AttitudeAlgebra) -> str:
         text = (
@@ -83,27 +136,39 @@ class AttitudeAlgebra:
             )
         return text + " Check which frames each attitude maps (a.reference, a.body), or compose with a.inv()."
 
-    def __pow__(self, t) -> AttitudeAlgebra:
+    def __pow__(self, t, modulus=None) -> AttitudeAlgebra:
         """Rotations by ``t`` times the angle (in [0, π], the shorter way) about the same axes, as scipy's.
 
-        ``from_rotvec(t · as_rotvec(q))``, so q and -q give the same result; ``a ** -1`` is ``a.inv()``.
+        ``from_rotvec(t · as_rotvec(q))``, so q and -q give the same result, except for three exponents that are
+        algebra rather than a scaled angle (scipy's rule): ``a ** 1`` is ``a``, ``a ** -1`` is ``a.inv()`` and
+        ``a ** 0`` the identity, whatever the type of the number (``-1``, ``-1.0``, ``np.array([-1.0])``).
 
+        ``t`` is one real number (or an array holding one); ``pow(a, t, m)`` raises ``NotImplementedError``.
         Only a rotation between axes of the same name (``reference == body``, e.g. the relative rotation
-        ``a.inv() * b``) or with unnamed frames has powers: half of a body-to-NED attitude maps between no named
-        frames (for attitudes in between, use ``quaternion.slerp`` or
+        ``a.inv() * b``) or with unnamed frames has powers other than ±1: half of a body-to-NED attitude maps
+        between no named frames (for attitudes in between, use ``quaternion.slerp`` or
         :class:`strapdown.propagate.interpolate.RotationSpline`).
         """
-        from .rotvec import as_rotvec, from_rotvec
-
-        if isinstance(t, (int, np.integer)) and t == -1:
+        if modulus is not None:
+            raise NotImplementedError("pow(a, t, modulus): a modulus has no meaning for rotations")
+        t = _exponent(t)
+        if t == 1:
+            return self
+        if t == -1:
             return self.inv()
         if self._reference is not None and self._body is not None and self._reference != self._body:
             raise ValueError(
                 f"a ** t needs a rotation between axes of the same name; this one maps {self._body!r} to "
                 f"{self._reference!r} (use a.inv() for the inverse, slerp or RotationSpline for attitudes in between)"
             )
-        t = _v.finite(t, "t")
-        return self._like(from_rotvec(as_rotvec(self._q, check=False) * t[..., None].astype(self.dtype), check=False))
+        from .rotvec import as_rotvec, from_rotvec
+
+        if t == 0:
+            from .quaternion import identity
+
+            return self._like(identity(self.shape, self.dtype))
+        scaled = as_rotvec(self._q, check=False) * self.dtype.type(t)
+        return self._like(_unit_again(from_rotvec(scaled, check=False)))
 
     def magnitude(self) -> np.ndarray:
         """Rotation angles of the attitudes, ``2 atan2(|v|, |w|)``.
@@ -127,7 +192,8 @@ class AttitudeAlgebra:
         atol : float, optional
             Largest angle, radians (degrees with ``degrees=True``); default 1e-8 rad.
         degrees : bool
-            ``atol`` in degrees.
+            ``atol`` in degrees.  Without ``atol`` it has nothing to apply to: a UserWarning says so and the
+            default 1e-8 rad is used (as scipy does).
 
         Returns
         -------
@@ -137,9 +203,20 @@ class AttitudeAlgebra:
         from .quaternion import angle_between
 
         if not isinstance(other, AttitudeAlgebra):
-            raise ValueError(f"other must be an Attitude, got {type(other).__name__}")
+            raise TypeError(f"other must be an Attitude, got {type(other).__name__}")
         self._same_frames(other, "approx_equal")
-        tol = 1e-8 if atol is None else (np.deg2rad(atol) if degrees else atol)
+        _v.broadcast(("self", self.shape), ("other", other.shape))
+        if atol is None:
+            if degrees:
+                warnings.warn(
+                    f"approx_equal(degrees=True) without atol: the default atol is {_DEFAULT_ATOL:g} rad, so degrees "
+                    "has no effect; give atol in degrees",
+                    UserWarning,
+                    stacklevel=2,
+                )
+            tol = _DEFAULT_ATOL
+        else:
+            tol = np.deg2rad(atol) if degrees else atol
         return angle_between(self._q, other._q, check=False) <= tol
 
     def _same_frames(self, other: AttitudeAlgebra, what: str) -> None:
@@ -162,19 +239,58 @@ class AttitudeAlgebra:
         Returns
         -------
         Attitude
-            The mean attitude(s).
+            The mean attitude(s), unit quaternions with w ≥ 0.
         """
         from .average import mean
 
         if axis is not None:
             # numbered in the Attitude's shape; average.mean numbers them in q's, whose last axis holds w, x, y, z
-            axes = (axis,) if isinstance(axis, (int, np.integer)) else tuple(axis)
+            axes = (axis,) if isinstance(axis, int | np.integer) else axis
+            if not isinstance(axes, tuple) or not all(
+                isinstance(ax, int | np.integer) and not isinstance(ax, bool) for ax in axes
+            ):
+                raise ValueError(f"axis must be None, an int or a tuple of ints; got {axis!r}")
             nd = len(self.shape)
             for ax in axes:
                 if not -nd <= ax < nd:
                     raise ValueError(f"axis {ax} is out of range for an Attitude of shape {self.shape}")
-            axis = tuple(int(ax) % nd for ax in axes)
-        return self._like(mean(self._q, weights=weights, axis=axis))
+            axis = tuple(sorted({int(ax) % nd for ax in axes}))  # a set of axes, as scipy's (numpy refuses repeats)
+        return self._like(_unit_again(mean(self._q, weights=weights, axis=axis)))
+
+    def reduce(self, left=None, right=None, return_indices: bool = False):
+        """The attitudes of smallest angle ``l * a * r`` over ``l`` in ``left`` and ``r`` in ``right`` (scipy's).
+
+        When ``left`` and ``right`` are the symmetry groups of two objects (:meth:`create_group`) whose relative
+        attitude is ``a``, the reduced attitude is the smallest rotation that turns one onto the other.
+
+        Parameters
+        ----------
+        left, right : Attitude, optional
+            One or a 1-D stack of attitudes each; None (default) stands for the identity.  Frames as for
+            ``left * a * right``.
+        return_indices : bool
+            Also return the indices of the chosen ``l`` and ``r`` (None for a side not given).
+
+        Returns
+        -------
+        reduced : Attitude
+            The shape of ``self``: ``left[i] * self * right[j]`` with ``|w|`` largest (the angle least).
+        left_index, right_index : numpy.ndarray of int, shape ``self.shape``
+            Only with ``return_indices=True``.
+        """
+        from .groups import reduce
+
+        for value, name in ((left, "left"), (right, "right")):
+            if value is not None and not isinstance(value, AttitudeAlgebra):
+                raise TypeError(f"{name} must be an Attitude or None, got {type(value).__name__}")
+        _, i, j = reduce(self._q, None if left is None else left._q, None if right is None else right._q, check=False)
+        out = self
+        if left is not None:
+            out = left[i] if not left.single else left
+            out = out * self
+        if right is not None:
+            out = out * (right[j] if not right.single else right)
+        return (out, i, j) if return_indices else out
 
     def to_frame(self, reference: str | None = None, body: str | None = None) -> AttitudeAlgebra:
         """The same physical attitudes expressed in other axes (:func:`strapdown.change_frame`).
@@ -211,7 +327,7 @@ class AttitudeAlgebra:
             options[f"{side}_to"] = new
         if not options:
             return self
-        q = change_frame(self._q, check=False, **options)
+        q = _unit_again(change_frame(self._q, check=False, **options))
         return type(self)._wrap(
             q, self._reference if reference is None else reference, self._body if body is None else body
         )

@@ -125,19 +125,24 @@ def as_mrp_rows(q, out):
 def from_axes_rows(angles, axes, extrinsic, out):
     """out[n] = e(n_1, a_1) ⊗ e(n_2, a_2) ⊗ ... (intrinsic) or ... ⊗ e(n_2, a_2) ⊗ e(n_1, a_1) (extrinsic).
 
-    e(n, a) = [cos(a/2), sin(a/2) n] for the unit axes ``axes`` (k, 3); ``angles`` is (N, k).
+    e(n, a) = [cos(a/2), sin(a/2) n] for the unit axes ``axes`` (A, k, 3); ``angles`` is (N', k).  A row count
+    of 1 (one set of axes, or one set of angles) is shared by every output row.
     """
-    k = axes.shape[0]
+    k = axes.shape[1]
+    a_step = 1 if angles.shape[0] > 1 else 0
+    x_step = 1 if axes.shape[0] > 1 else 0
     bad = -1
     for n in range(out.shape[0]):
+        i = n * a_step
+        r = n * x_step
         w, x, y, z = 1.0, 0.0, 0.0, 0.0
         for m in range(k):
-            h = 0.5 * float(angles[n, m])
+            h = 0.5 * float(angles[i, m])
             if bad < 0 and not abs(h) < math.inf:
                 bad = n
             c = math.cos(h)
             s = math.sin(h)
-            ex, ey, ez = s * axes[m, 0], s * axes[m, 1], s * axes[m, 2]
+            ex, ey, ez = s * axes[r, m, 0], s * axes[r, m, 1], s * axes[r, m, 2]
             if extrinsic:
                 w, x, y, z = qmul(c, ex, ey, ez, w, x, y, z)
             else:
@@ -160,8 +165,12 @@ def _wrap(a):
 
 
 @nb.njit(cache=True, error_model="numpy")
-def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
+def as_davenport_rows(q, sets, consts, extrinsic, scale, out):
     """Davenport angles of the extrinsic sequence (n1, n2, n3) (the caller reverses an intrinsic one).
+
+    ``sets`` (A, 4, 3) holds n1, n2, n3 and n1 × n2, ``consts`` (A, 4) holds λ, cos(λ/2), sin(λ/2) and the flag
+    ``flip`` (1.0 where n2 was turned round), per set of axes; A = 1 (one set for every rotation) or one set per
+    output row, and q may likewise have one row for every set.
 
     Shuster and Markley (2003), in the direct half-angle form of Bernardes and Viollet (2022) as scipy uses it:
     with λ the angle from n1 to n3 about n2 (made ≥ 0 by flipping n2, ``flip``), the quaternion
@@ -170,25 +179,30 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
     Both half angles come from the same quaternion, so no threshold is needed near gimbal lock; only at the lock
     itself (c = d = 0 or a = b = 0 exactly) the third angle is set to 0 and the first carries the rotation.
     """
-    cx = n1[1] * n2[2] - n1[2] * n2[1]
-    cy = n1[2] * n2[0] - n1[0] * n2[2]
-    cz = n1[0] * n2[1] - n1[1] * n2[0]
-    ch = math.cos(0.5 * lam)
-    sh = math.sin(0.5 * lam)
+    q_step = 1 if q.shape[0] > 1 else 0
+    s_step = 1 if sets.shape[0] > 1 else 0
     bad = -1
     for n in range(out.shape[0]):
-        qw = float(q[n, 0])
-        qx = float(q[n, 1])
-        qy = float(q[n, 2])
-        qz = float(q[n, 3])
+        k = n * s_step
+        lam = consts[k, 0]
+        ch = consts[k, 1]
+        sh = consts[k, 2]
+        n1x, n1y, n1z = sets[k, 0, 0], sets[k, 0, 1], sets[k, 0, 2]
+        n2x, n2y, n2z = sets[k, 1, 0], sets[k, 1, 1], sets[k, 1, 2]
+        cx, cy, cz = sets[k, 3, 0], sets[k, 3, 1], sets[k, 3, 2]
+        j = n * q_step
+        qw = float(q[j, 0])
+        qx = float(q[j, 1])
+        qy = float(q[j, 2])
+        qz = float(q[j, 3])
         # a, b, c and d are linear in q and only their ratios count (atan2, hypot): any finite non-zero size will do
         big = max(abs(qw), abs(qx), abs(qy), abs(qz))
         if bad < 0 and not (big > 0.0 and big < math.inf):
             bad = n
-        w, x, y, z = qmul(ch, sh * n2[0], sh * n2[1], sh * n2[2], qw, qx, qy, qz)
+        w, x, y, z = qmul(ch, sh * n2x, sh * n2y, sh * n2z, qw, qx, qy, qz)
         a = w
-        b = x * n1[0] + y * n1[1] + z * n1[2]
-        c = x * n2[0] + y * n2[1] + z * n2[2]
+        b = x * n1x + y * n1y + z * n1z
+        c = x * n2x + y * n2y + z * n2z
         d = x * cx + y * cy + z * cz
         half_sum = math.atan2(b, a)
         half_diff = math.atan2(d, c)
@@ -206,7 +220,7 @@ def as_davenport_rows(q, n1, n2, n3, lam, flip, extrinsic, scale, out):
             first = half_sum + half_diff
             third = half_sum - half_diff
         middle -= lam
-        if flip:
+        if consts[k, 3] != 0.0:
             middle = -middle
         out[n, 0] = _wrap(first) * scale
         out[n, 1] = middle * scale

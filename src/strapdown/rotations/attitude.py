@@ -29,7 +29,23 @@ names both and says how to re-express one, e.g. ``b.to_frame("NED", "FRD")`` for
 ``inv()`` swaps the names.  ``mean``, ``approx_equal`` and ``concatenate`` need the same frames throughout.
 
 Storage: ``a.q`` is the (..., 4) array itself, scalar first, read-only and never copied; the constructors that
-take user data (:meth:`from_quat`, the constructor) copy and normalise it, as scipy does.
+take user data (:meth:`from_quat`, the constructor) copy and normalise it, as scipy does.  Every operation that
+makes a new attitude returns unit quaternions: products, powers, means and changes of frame are brought back to
+unit norm, so that long chains (``r = r * p * r``, ``x = x * x``) do not drift off it.
+
+Sign
+----
+q and -q are one attitude; which of the two an Attitude holds follows one rule, scipy's:
+
+* what names a quaternion keeps its sign: the user's quaternions (the constructor, :meth:`from_quat`), the
+  algebra (``a * b`` is the Hamilton product, :meth:`inv` the conjugate, ``a ** 1`` is a, ``a ** -1`` is
+  ``a.inv()``, :meth:`reduce` a product, :meth:`to_frame` a product with the frames' quaternions) and the
+  parametrisations that name one quaternion (rotation vectors and powers through the exponential map
+  ``exp(θ/2)``, MRPs, Gibbs vectors, Euler and Davenport angles as products of elementary turns);
+* what knows only the rotation gives ``w ≥ 0`` (:func:`~strapdown.rotations.quaternion.canonical`):
+  matrices, :meth:`align_vectors`, :meth:`mean`, :meth:`random`, :meth:`create_group` and the identity.
+
+``as_quat(canonical=True)`` gives ``w ≥ 0`` for any of them.
 """
 
 from __future__ import annotations
@@ -50,8 +66,23 @@ def _name(value, what: str):
     return value
 
 
-def _generator(rng) -> np.random.Generator:
-    return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+def _generator(rng):
+    """A numpy Generator, or a legacy RandomState (scipy's ``random_state``) used as it is."""
+    return rng if isinstance(rng, np.random.Generator | np.random.RandomState) else np.random.default_rng(rng)
+
+
+def _lead_shape(num, shape) -> tuple:
+    """The leading shape of ``identity`` and ``random`` from scipy's ``num`` or ``shape`` (an int or a tuple)."""
+    if num is not None and shape is not None:
+        raise ValueError(f"give num or shape, not both (num={num!r}, shape={shape!r})")
+    value = num if shape is None else shape
+    if value is None:
+        return ()
+    items = value if isinstance(value, tuple) else (value,)
+    if not all(isinstance(n, int | np.integer) and not isinstance(n, bool) and n >= 0 for n in items):
+        what = "num" if shape is None else "shape"
+        raise ValueError(f"{what} must be a non-negative int or a tuple of them; got {value!r}")
+    return tuple(int(n) for n in items)
 
 
 class Attitude(AttitudeAlgebra):
@@ -146,6 +177,10 @@ class Attitude(AttitudeAlgebra):
             raise TypeError("a single Attitude has no len(); it has shape ()")
         return self._q.shape[0]
 
+    def __bool__(self) -> bool:
+        """Always True, also for a single attitude or an empty stack (as scipy's Rotation)."""
+        return True
+
     def __iter__(self):
         if self.single:
             raise TypeError("a single Attitude is not iterable")
@@ -208,11 +243,19 @@ class Attitude(AttitudeAlgebra):
         return cls(arr, reference, body, check=False)
 
     @classmethod
-    def from_matrix(cls, matrix, *, reference=None, body=None, check: bool = True) -> Attitude:
-        """From body-to-reference rotation matrices (..., 3, 3); see :func:`strapdown.from_matrix`."""
+    def from_matrix(
+        cls, matrix, *, orthonormalize: bool = False, atol: float = 1e-5, reference=None, body=None, check=True
+    ) -> Attitude:
+        """From body-to-reference rotation matrices (..., 3, 3); see :func:`strapdown.from_matrix`.
+
+        A matrix further than ``atol`` from a rotation is refused unless ``orthonormalize=True``, which takes
+        the nearest rotation instead (scipy's ``from_matrix`` does that always; its ``assume_valid=True`` is
+        this default).
+        """
         from .matrix import from_matrix
 
-        return cls._wrap(from_matrix(matrix, check=check), _name(reference, "reference"), _name(body, "body"))
+        q = from_matrix(matrix, orthonormalize=orthonormalize, atol=atol, check=check)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body"))
 
     @classmethod
     def from_euler(cls, angles, seq="ZYX", degrees: bool = False, *, reference=None, body=None, check: bool = True):
@@ -270,13 +313,15 @@ class Attitude(AttitudeAlgebra):
         return cls(from_scipy(rot), reference, body, check=False)
 
     @classmethod
-    def identity(cls, shape=(), *, reference=None, body=None, dtype=np.float64) -> Attitude:
+    def identity(cls, shape=None, *, num=None, reference=None, body=None, dtype=np.float64) -> Attitude:
         """Identity attitudes of the given leading shape.
 
         Parameters
         ----------
-        shape : int or tuple of int
-            Leading shape; ``()`` (default) gives one attitude.
+        shape : int or tuple of int, optional
+            Leading shape; None or ``()`` (default) gives one attitude.
+        num : int, optional
+            scipy's name: ``num`` attitudes, shape ``(num,)`` (give ``num`` or ``shape``).
         reference, body : str, optional
             Frame names.
         dtype : numpy dtype
@@ -289,19 +334,23 @@ class Attitude(AttitudeAlgebra):
         """
         from .quaternion import identity
 
-        return cls._wrap(identity(shape, dtype), _name(reference, "reference"), _name(body, "body"))
+        q = identity(_lead_shape(num, shape), dtype)
+        return cls._wrap(q, _name(reference, "reference"), _name(body, "body"))
 
     @classmethod
     def random(cls, num: int | None = None, rng=None, *, shape=None, reference=None, body=None) -> Attitude:
         """Uniformly distributed attitudes (Haar measure): normalised 4-D Gaussians (Shoemake 1992).
 
+        The same rotations as scipy's ``Rotation.random`` from the same generator (its draws are read scalar
+        last, as scipy reads them), in canonical sign (w ≥ 0).
+
         Parameters
         ----------
         num : int, optional
             How many; None (default) gives one attitude of shape ``()``.
-        rng : numpy.random.Generator or seed, optional
+        rng : numpy.random.Generator, numpy.random.RandomState or seed, optional
             The random generator (a seed is passed to ``numpy.random.default_rng``).
-        shape : tuple of int, optional
+        shape : int or tuple of int, optional
             Leading shape instead of ``num``.
         reference, body : str, optional
             Frame names.
@@ -311,24 +360,56 @@ class Attitude(AttitudeAlgebra):
         Attitude
             Shape ``()``, ``(num,)`` or ``shape``; float64.
         """
-        if num is not None and shape is not None:
-            raise ValueError("give num or shape, not both")
-        lead = () if num is None and shape is None else ((int(num),) if shape is None else tuple(shape))
-        g = _generator(rng).standard_normal((*lead, 4))
+        from .quaternion import canonical
+
+        g = _generator(rng).standard_normal((*_lead_shape(num, shape), 4))
+        g = np.roll(g, 1, axis=-1)  # scipy's draws are [x, y, z, w]
         g /= np.linalg.norm(g, axis=-1, keepdims=True)
-        return cls._wrap(g, _name(reference, "reference"), _name(body, "body"))
+        return cls._wrap(canonical(g, check=False), _name(reference, "reference"), _name(body, "body"))
 
     @classmethod
-    def align_vectors(cls, a, b, weights=None, *, reference=None, body=None):
+    def align_vectors(cls, a, b, weights=None, return_sensitivity: bool = False, *, reference=None, body=None):
         """The attitude turning body vectors ``b`` onto reference vectors ``a`` and its rssd (scipy's names).
 
         See :func:`strapdown.rotations.wahba.align_vectors` (one pair: the minimal rotation; an infinite weight:
         that pair exactly, the others about it; otherwise Wahba's problem on the raw vectors).
+
+        Returns
+        -------
+        attitude : Attitude
+            Body (frame of ``b``) to reference (frame of ``a``), w ≥ 0.
+        rssd : float or numpy.ndarray
+            Root sum squared distance of the pairs of finite weight.
+        sensitivity : numpy.ndarray, shape (..., 3, 3)
+            Only with ``return_sensitivity=True``: scipy's sensitivity matrix, in the reference frame.
         """
         from .wahba import align_vectors
 
-        q, rssd = align_vectors(a, b, weights)
-        return cls._wrap(q, _name(reference, "reference"), _name(body, "body")), rssd
+        out = align_vectors(a, b, weights, return_sensitivity=return_sensitivity)
+        return (cls._wrap(out[0], _name(reference, "reference"), _name(body, "body")), *out[1:])
+
+    @classmethod
+    def create_group(cls, group: str, axis: str = "Z", *, frame=None) -> Attitude:
+        """The rotations of a symmetry group (:func:`strapdown.rotations.groups.create_group`, scipy's names).
+
+        Parameters
+        ----------
+        group : {"I", "O", "T", "Cn", "Dn"}
+            Icosahedral, octahedral, tetrahedral, cyclic or dihedral group of order n.
+        axis : {"X", "Y", "Z"}
+            Main axis of ``"Cn"`` and ``"Dn"``.
+        frame : str, optional
+            The axes the group turns into themselves (its reference and body, the same name).
+
+        Returns
+        -------
+        Attitude
+            Shape (m,), w ≥ 0, the identity first.
+        """
+        from .groups import create_group
+
+        frame = _name(frame, "frame")
+        return cls._wrap(create_group(group, axis), frame, frame)
 
     @classmethod
     def concatenate(cls, attitudes) -> Attitude:
@@ -346,12 +427,17 @@ class Attitude(AttitudeAlgebra):
 
         Raises
         ------
+        TypeError
+            For an item that is not an Attitude.
         ValueError
             When the frames differ (the message names the first one that does and how to re-express it).
         """
         items = [attitudes] if isinstance(attitudes, Attitude) else list(attitudes)
-        if not items or not all(isinstance(a, Attitude) for a in items):
+        if not items:
             raise ValueError("concatenate needs a non-empty sequence of Attitude objects")
+        for i, a in enumerate(items):
+            if not isinstance(a, Attitude):
+                raise TypeError(f"concatenate takes Attitude objects only; attitudes[{i}] is a {type(a).__name__}")
         first = items[0]
         for i, a in enumerate(items[1:], 1):
             if (a.reference, a.body) != (first.reference, first.body):
@@ -376,11 +462,23 @@ class Attitude(AttitudeAlgebra):
 
         return as_matrix(self._q, check=False)
 
-    def as_euler(self, seq: str = "ZYX", degrees: bool = False, yaw_range: str = "signed") -> np.ndarray:
-        """Euler angles (:func:`strapdown.as_euler`, exact at gimbal lock)."""
+    def as_euler(
+        self, seq: str = "ZYX", degrees: bool = False, yaw_range: str = "signed", *, suppress_warnings: bool = False
+    ) -> np.ndarray:
+        """Euler angles (:func:`strapdown.as_euler`, exact at gimbal lock).
+
+        As scipy's, a UserWarning says when an attitude lies within 1e-7 rad of gimbal lock, where only the sum
+        or difference of the first and third angle is determined (``suppress_warnings=True`` silences it; the
+        plain function never warns).
+        """
+        from .davenport import _BASIS, _warn_gimbal_lock
         from .euler import as_euler
 
-        return as_euler(self._q, seq, degrees, yaw_range, check=False)
+        angles = as_euler(self._q, seq, degrees, yaw_range, check=False)
+        if not suppress_warnings:  # seq is valid: as_euler took it; its middle angle is as_davenport's
+            middle = np.deg2rad(angles[..., 1]) if degrees else angles[..., 1]
+            _warn_gimbal_lock(middle, [_BASIS[c] for c in seq.lower()], "e" if seq.islower() else "i")
+        return angles
 
     def as_rotvec(self, degrees: bool = False) -> np.ndarray:
         """Rotation vectors, angle in [0, π] (:func:`strapdown.as_rotvec`)."""
@@ -394,11 +492,14 @@ class Attitude(AttitudeAlgebra):
 
         return as_mrp(self._q, check=False)
 
-    def as_davenport(self, axes, order: str, degrees: bool = False) -> np.ndarray:
-        """Davenport angles about three axes (:func:`strapdown.as_davenport`)."""
-        from .davenport import as_davenport
+    def as_davenport(self, axes, order: str, degrees: bool = False, *, suppress_warnings: bool = False) -> np.ndarray:
+        """Davenport angles about three axes (:func:`strapdown.as_davenport`; gimbal lock as :meth:`as_euler`)."""
+        from .davenport import _warn_gimbal_lock, as_davenport
 
-        return as_davenport(self._q, axes, order, degrees, check=False)
+        angles = as_davenport(self._q, axes, order, degrees, check=False)
+        if not suppress_warnings:
+            _warn_gimbal_lock(np.deg2rad(angles[..., 1]) if degrees else angles[..., 1], axes, order)
+        return angles
 
     def as_gibbs(self, convention: str = "gajda") -> np.ndarray:
         """Gibbs vectors (:func:`strapdown.as_gibbs`); infinite, and refused, at 180°."""

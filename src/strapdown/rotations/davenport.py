@@ -37,29 +37,55 @@ def _extrinsic(order) -> bool:
 
 
 def _axes(axes, most: int = 3) -> np.ndarray:
-    """Unit axes (k, 3) in float64, consecutive ones perpendicular, or a ValueError naming ``axes``."""
+    """Unit axes (..., k, 3) in float64, consecutive ones perpendicular, or a ValueError naming ``axes``.
+
+    Shape (3,) is one axis, (k, 3) one set of k axes for every rotation, (..., k, 3) a set per rotation.
+    """
     arr = _v.as_float_array(axes, "axes", dtype=np.float64)
     if arr.ndim == 1:
         arr = arr[None]
-    if arr.ndim != 2 or arr.shape[-1] != 3 or not 1 <= arr.shape[0] <= most:
-        raise ValueError(f"axes must have shape (3,) or (k, 3) with 1 ≤ k ≤ {most} axes; got shape {arr.shape}")
+    if arr.ndim < 2 or arr.shape[-1] != 3 or not 1 <= arr.shape[-2] <= most:
+        raise ValueError(
+            f"axes must have shape (3,), (k, 3) or (..., k, 3) with 1 ≤ k ≤ {most} axes; got shape {arr.shape}"
+        )
     _v.check_finite(arr, "axes")
     length = np.linalg.norm(arr, axis=-1)
     if not (length > 0).all():
-        raise ValueError(f"axes[{int(np.flatnonzero(~(length > 0))[0])}] is a zero vector; an axis needs a direction")
-    unit = arr / length[:, None]
-    for i in range(unit.shape[0] - 1):
-        cos = float(unit[i] @ unit[i + 1])
-        if abs(cos) > _ORTHOGONAL:
+        raise ValueError(f"axes{_v.first_index(~(length > 0))} is a zero vector; an axis needs a direction")
+    unit = arr / length[..., None]
+    for i in range(unit.shape[-2] - 1):
+        cos = np.einsum("...i,...i->...", unit[..., i, :], unit[..., i + 1, :])
+        bad = np.abs(cos) > _ORTHOGONAL
+        if bad.any():
+            at = _v.first_index(bad)[1:-1] if bad.ndim else ""
+            lead = f"{at}, " if at else ""
             raise ValueError(
-                f"axes[{i}] and axes[{i + 1}] are not perpendicular (cos = {cos:.3g}); consecutive Davenport axes "
-                "must be perpendicular"
+                f"axes[{lead}{i}] and axes[{lead}{i + 1}] are not perpendicular (cos = {float(cos[bad].flat[0]):.3g}); "
+                "consecutive Davenport axes must be perpendicular"
             )
     return np.ascontiguousarray(unit)
 
 
+def _axis_rows(arr: np.ndarray, lead: tuple, tail: tuple) -> np.ndarray:
+    """C-contiguous rows (N or 1, *tail) of an array broadcast to (*lead, *tail): one row when it is shared."""
+    own = arr.shape[: arr.ndim - len(tail)]
+    if own != lead and int(np.prod(own)) != 1:
+        arr = np.broadcast_to(arr, (*lead, *tail))
+    return np.ascontiguousarray(arr.reshape((-1, *tail)))
+
+
+def _lead(name: str, shape: tuple, unit: np.ndarray) -> tuple:
+    try:
+        return np.broadcast_shapes(shape, unit.shape[:-2])
+    except ValueError:
+        raise ValueError(
+            f"the leading shapes of {name} {shape} and of axes {unit.shape[:-2]} (one set of axes per rotation) do "
+            "not broadcast"
+        ) from None
+
+
 def _from_unit_axes(unit: np.ndarray, extrinsic: bool, angles, degrees: bool, check: bool) -> np.ndarray:
-    k = unit.shape[0]
+    k = unit.shape[-2]
     a = _v.finite(angles, "angles", check=False)
     if a.ndim == 0 and k == 1:
         a = a[None]
@@ -70,13 +96,14 @@ def _from_unit_axes(unit: np.ndarray, extrinsic: bool, angles, degrees: bool, ch
         )
     if degrees:
         a = np.deg2rad(a)
-    rows = a.reshape(-1, k)
-    out = np.empty((rows.shape[0], 4), dtype=a.dtype)
+    lead = _lead("angles", a.shape[:-1], unit)
+    rows = _axis_rows(a, lead, (k,))
+    out = np.empty((int(np.prod(lead)), 4), dtype=a.dtype)
     from ._mrp_davenport_numba import from_axes_rows
 
-    if from_axes_rows(rows, unit, extrinsic, out) >= 0 and check:  # checked as it goes (see the kernel)
+    if from_axes_rows(rows, _axis_rows(unit, lead, (k, 3)), extrinsic, out) >= 0 and check:  # checked as it goes
         _v.finite(a, "angles")
-    return out.reshape((*a.shape[:-1], 4))
+    return out.reshape((*lead, 4))
 
 
 def from_davenport(axes, order: str, angles, degrees: bool = False, *, check: bool = True) -> np.ndarray:
@@ -84,8 +111,9 @@ def from_davenport(axes, order: str, angles, degrees: bool = False, *, check: bo
 
     Parameters
     ----------
-    axes : array_like, shape (3,) or (k, 3), k = 1, 2, 3
-        The rotation axes in order; they are normalised, and consecutive ones must be perpendicular.
+    axes : array_like, shape (3,), (k, 3) or (..., k, 3), k = 1, 2, 3
+        The rotation axes in order; they are normalised, and consecutive ones must be perpendicular.  Leading
+        axes give a set of axes per rotation, broadcast against those of ``angles``.
     order : {"extrinsic", "e", "intrinsic", "i"}
         Fixed reference axes or turning body axes (module notes).
     angles : array_like, shape (..., k), or a number for one axis
@@ -114,8 +142,9 @@ def as_davenport(q, axes, order: str, degrees: bool = False, *, check: bool = Tr
     ----------
     q : array_like, shape (..., 4)
         Non-zero quaternions (body to reference); ``q`` and ``-q`` give the same angles.
-    axes : array_like, shape (3, 3)
-        The three axes, normalised here; ``axes[1]`` must be perpendicular to the other two.
+    axes : array_like, shape (3, 3) or (..., 3, 3)
+        The three axes, normalised here; ``axes[1]`` must be perpendicular to the other two.  Leading axes give
+        a set of axes per rotation, broadcast against those of ``q``.
     order : {"extrinsic", "e", "intrinsic", "i"}
         Fixed reference axes or turning body axes.
 
@@ -138,25 +167,62 @@ def as_davenport(q, axes, order: str, degrees: bool = False, *, check: bool = Tr
     array([90.,  0.,  0.])
     """
     extrinsic = _extrinsic(order)
-    unit = _axes(axes)
-    if unit.shape[0] != 3:
-        raise ValueError(f"as_davenport needs three axes, shape (3, 3); got {unit.shape[0]}")
+    unit = _three_axes(axes)
     q = _v.quaternions(q, "q", check=False)
-    n1, n2, n3 = unit if extrinsic else unit[::-1]  # the algorithm is for extrinsic sequences
-    lam = float(np.arctan2(n3 @ np.cross(n1, n2), n3 @ n1))
-    flip = lam < 0
-    if flip:  # the other set of angles, that of as_euler: turn n2 round so that λ ≥ 0
-        n2 = -n2
-        lam = -lam
-    rows = q.reshape(-1, 4)
-    out = np.empty((rows.shape[0], 3), dtype=q.dtype)
+    lead = _lead("q", q.shape[:-1], unit)
+    (n1, n2, n3), lam, flip = _extrinsic_axes(unit, extrinsic)
+    sets = np.stack([n1, n2, n3, np.cross(n1, n2)], axis=-2)  # (..., 4, 3): the axes and n1 × n2
+    consts = np.stack([lam, np.cos(0.5 * lam), np.sin(0.5 * lam), flip.astype(np.float64)], axis=-1)
+    out = np.empty((int(np.prod(lead)), 3), dtype=q.dtype)
     from ._mrp_davenport_numba import as_davenport_rows
 
-    n1, n2, n3 = (np.ascontiguousarray(n) for n in (n1, n2, n3))
     scale = 180.0 / np.pi if degrees else 1.0
-    if as_davenport_rows(rows, n1, n2, n3, lam, flip, extrinsic, scale, out) >= 0 and check:
+    rows = _axis_rows(q, lead, (4,))
+    bad = as_davenport_rows(rows, _axis_rows(sets, lead, (4, 3)), _axis_rows(consts, lead, (4,)), extrinsic, scale, out)
+    if bad >= 0 and check:
         _v.quaternions(q, "q")  # checked as it goes (see the kernel); the usual message from here
-    return out.reshape((*q.shape[:-1], 3))
+    return out.reshape((*lead, 3))
+
+
+def _three_axes(axes) -> np.ndarray:
+    unit = _axes(axes)
+    if unit.shape[-2] != 3:
+        raise ValueError(f"as_davenport needs three axes, shape (3, 3) or (..., 3, 3); got {unit.shape[-2]}")
+    return unit
+
+
+def _extrinsic_axes(unit: np.ndarray, extrinsic: bool):
+    """(n1, n2, n3) of the extrinsic sequence, λ ≥ 0 (the angle from n1 to n3 about n2) and whether n2 was turned.
+
+    The algorithm is for extrinsic sequences: an intrinsic one is the extrinsic sequence of its axes reversed.
+    Where λ < 0, n2 is turned round (λ then ≥ 0), which gives the other set of angles, that of as_euler.
+    """
+    n1, n2, n3 = (unit[..., m, :] for m in ((0, 1, 2) if extrinsic else (2, 1, 0)))
+    lam = np.arctan2(np.einsum("...i,...i->...", n3, np.cross(n1, n2)), np.einsum("...i,...i->...", n3, n1))
+    flip = lam < 0
+    return (n1, np.where(flip[..., None], -n2, n2), n3), np.abs(lam), flip
+
+
+def _warn_gimbal_lock(middle: np.ndarray, axes, order: str, eps: float = 1e-7) -> None:
+    """A UserWarning where the middle angle (rad) of :func:`as_davenport` lies within ``eps`` of gimbal lock.
+
+    The kernel's half-angle β of the middle turn is in [0, π] and the sequence locks at its ends, where n1,
+    turned by the middle rotation, lies along n3 and only the sum or difference of the outer angles is defined;
+    β is λ plus the middle angle (minus it when n2 was turned round).  ``eps`` is scipy's threshold.
+    """
+    _, lam, flip = _extrinsic_axes(_three_axes(axes), _extrinsic(order))
+    beta = lam + np.where(flip, -middle, middle)
+    locked = (beta <= eps) | (beta >= np.pi - eps)
+    if locked.any():
+        import warnings
+
+        warnings.warn(
+            f"Gimbal lock: rotation{_v.first_index(locked)} is within {eps:g} rad of it ({int(locked.sum())} of "
+            f"{locked.size}), where only the sum or difference of the first and third angles is determined "
+            "(the angles returned are exact; at the lock itself the third is 0)",
+            UserWarning,
+            stacklevel=3,
+        )
 
 
 def from_short_euler(angles, seq: str, degrees: bool, check: bool) -> np.ndarray:

@@ -452,7 +452,7 @@ def static_attitude(acc, mag, frame: str = "NED", *, declination=0.0, degrees: b
 _PARALLEL = 64 * np.finfo(np.float64).eps
 
 
-def align_vectors(a, b, weights=None, *, check: bool = True):
+def align_vectors(a, b, weights=None, *, return_sensitivity: bool = False, check: bool = True):
     """The attitude that best turns the vectors ``b`` onto ``a``: scipy's ``Rotation.align_vectors(a, b, weights)``.
 
     Parameters
@@ -464,6 +464,9 @@ def align_vectors(a, b, weights=None, *, check: bool = True):
     weights : array_like, shape (m,), optional
         Non-negative weights (default all 1); at most one may be ``inf``, making its pair a constraint met
         exactly.  Vector lengths weigh too (scipy's loss ``½ Σ w |a - C b|²``).
+    return_sensitivity : bool
+        Also return scipy's sensitivity matrix (Notes); not with an infinite weight or a single pair, where the
+        rotation is fixed exactly rather than estimated.
     check : bool
         Reject NaN, zero vectors, negative weights and more than one infinite weight (default).
 
@@ -473,6 +476,8 @@ def align_vectors(a, b, weights=None, *, check: bool = True):
         Unit quaternions, body to reference: ``a ≈ rotate(q, b)``.
     rssd : numpy.ndarray, shape (...)
         ``√(Σ w |a - C b|²)`` over the pairs of finite weight (scipy's "root sum squared distance").
+    sensitivity : numpy.ndarray, shape (..., 3, 3)
+        Only with ``return_sensitivity=True``.
 
     Notes
     -----
@@ -486,6 +491,13 @@ def align_vectors(a, b, weights=None, *, check: bool = True):
       parallel to it) the result is the primary rotation alone;
     * otherwise Wahba's problem on the raw vectors (their lengths weigh, as in scipy's Kabsch solution), by
       :func:`davenport` with ``normalize=False``.
+
+    The sensitivity matrix is Markley's covariance of the SVD solution (Markley, J. Astronaut. Sci. 36(3), 1988,
+    eq. 21, as scipy gives it): with ``B = Σ w a bᵀ = U S Vᵀ`` and the singular values s1, s2, s3 (the last with
+    the sign of ``det U det V``), ``mean(w) · U diag(1/(s2 + s3), 1/(s3 + s1), 1/(s1 + s2)) Uᵀ``.  It is the
+    covariance, up to the factor of the measurement variance, of the attitude error as a small rotation vector
+    in the **reference** frame (scipy's frame A): ``q_true = exp(δθ/2) ⊗ q``.  Where the directions are all
+    parallel (a rotation about them is not observed) it is ``+inf``.
 
     Examples
     --------
@@ -520,6 +532,12 @@ def align_vectors(a, b, weights=None, *, check: bool = True):
     infinite = np.isposinf(w)
     if infinite.sum() > 1:
         raise ValueError(f"only one weight may be infinite; weights {np.flatnonzero(infinite).tolist()} are")
+    if return_sensitivity and (m == 1 or infinite.any()):
+        raise ValueError(
+            "return_sensitivity: with "
+            + ("a single vector pair" if m == 1 else "an infinite weight")
+            + " the rotation is fixed exactly, not estimated, so it has no sensitivity matrix"
+        )
     if m == 1 or infinite.any():
         p = 0 if m == 1 else int(np.flatnonzero(infinite)[0])
         a_p, b_p = a2[..., p, :], b2[..., p, :]
@@ -545,4 +563,18 @@ def align_vectors(a, b, weights=None, *, check: bool = True):
     residual = a2 - rotate(q[..., None, :], b2, check=False)
     rssd = np.sqrt(np.einsum("n,...n->...", finite, np.einsum("...ni,...ni->...n", residual, residual)))
     shape = av.shape[:-2] if av.ndim >= 2 else ()
-    return q.reshape((*shape, 4)).astype(dtype, copy=False), rssd.reshape(shape).astype(dtype, copy=False)
+    out = q.reshape((*shape, 4)).astype(dtype, copy=False), rssd.reshape(shape).astype(dtype, copy=False)
+    if not return_sensitivity:
+        return out
+    return (*out, _sensitivity(a2, b2, w).reshape((*shape, 3, 3)).astype(dtype, copy=False))
+
+
+def _sensitivity(a: np.ndarray, b: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Markley's (1988) covariance of the SVD attitude, scipy's sensitivity matrix (align_vectors' Notes)."""
+    u, s, vt = np.linalg.svd(np.einsum("n,...ni,...nk->...ik", w, a, b))
+    s[..., 2] *= np.sign(np.linalg.det(u) * np.linalg.det(vt))
+    pair = np.stack([s[..., 1] + s[..., 2], s[..., 2] + s[..., 0], s[..., 0] + s[..., 1]], axis=-1)
+    observed = (pair > 0).all(axis=-1)
+    inv = np.where(observed[..., None], 1 / np.where(observed[..., None], pair, 1.0), 0.0)
+    out = np.mean(w) * np.einsum("...ik,...k,...jk->...ij", u, inv, u)
+    return np.where(observed[..., None, None], out, np.inf)

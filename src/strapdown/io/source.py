@@ -90,6 +90,9 @@ class Source:
         The fields a format knows hold "gyro", "acc", "mag" or "time", used before any detection by name.
     time_in_seconds : bool
         The time field is already in seconds from the first sample (decoded and merged logs).
+    warnings : list of str
+        What went wrong reading the file that a user must hear about, each naming the file (a corrupt stretch of a
+        log skipped, with the samples lost and when); the file commands print them as warnings.
     """
 
     format = ""
@@ -110,6 +113,7 @@ class Source:
         self.upright = False
         self.presets: dict[str, tuple] = {}  # kind -> the fields a format knows hold it (before name detection)
         self.time_in_seconds = False  # the time field is already seconds (decoded logs): no unit to infer
+        self.warnings: list[str] = []
 
     def _origin(self, name: str, first) -> int | None:
         """The first value of a timestamp field in ns since the epoch: one origin per file, whatever the rows read."""

@@ -251,7 +251,8 @@ class Segments:
         self.t_first: float | None = None
         self.writers: dict[int, object] = {}
         self.outputs: list[Path] = []
-        self.notes: list[str] = []
+        # what the reader could not read (a corrupt stretch of a log, skipped): said even with -q
+        self.notes: list[str] = [f"warning: {w}" for w in getattr(getattr(imu, "source", None), "warnings", ())]
         self.rows = 0
         self.segment_of_estimator = -1
         self.current = None  # the chunk in flight, for messages

@@ -45,6 +45,7 @@ class Spool:
         self._index: list[int] = []  # the time of every _INDEX_EVERY-th sample
         self.first = self.last = None
         self.backwards = 0  # samples earlier than the one before them
+        self.finite = np.zeros(width, dtype=np.int64)  # finite values of each column
 
     def append(self, t, values) -> None:
         """Add samples: ``t`` (m,) integer ticks, ``values`` (m, width)."""
@@ -57,6 +58,7 @@ class Spool:
         if self.last is not None and t[0] < self.last:
             self.backwards += 1
         self.backwards += int(np.count_nonzero(t[1:] < t[:-1]))
+        self.finite += np.isfinite(block["v"]).sum(axis=0)
         offset = (-self.n) % _INDEX_EVERY
         self._index.extend(t[offset::_INDEX_EVERY].tolist())
         self.first = int(t[0]) if self.first is None else self.first

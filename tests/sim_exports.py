@@ -180,8 +180,22 @@ DATAFLASH_LAYOUTS = {
     "ATT": (68, "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF"),
     "GPS": (69, "QBBIHBcLLeffffB", "TimeUS,I,Status,GMS,GWk,NSats,HDop,Lat,Lng,Alt,Spd,GCrs,VZ,Yaw,U"),
 }
-_STRUCT = {"Q": "Q", "B": "B", "f": "f", "I": "I", "H": "H", "h": "h", "c": "h", "C": "H", "L": "i", "e": "i",
-           "n": "4s", "N": "16s", "Z": "64s", "i": "i"}  # fmt: skip
+_STRUCT = {
+    "Q": "Q",
+    "B": "B",
+    "f": "f",
+    "I": "I",
+    "H": "H",
+    "h": "h",
+    "c": "h",
+    "C": "H",
+    "L": "i",
+    "e": "i",
+    "n": "4s",
+    "N": "16s",
+    "Z": "64s",
+    "i": "i",
+}
 
 
 def dataflash_messages(data, *, t0_us=12_345_678, imus=1, mag_every=2, att_every=4, gps=None):
@@ -209,7 +223,7 @@ def dataflash_messages(data, *, t0_us=12_345_678, imus=1, mag_every=2, att_every
             yaw, pitch, roll = euler[k]
             c = [round(v * 100) for v in (roll, roll, pitch, pitch)]
             out.append(("ATT", (int(t), *c, round((yaw % 360) * 100), round((yaw % 360) * 100), 0, 0, 1)))
-        if gps is not None and k % max(int(round(0.2 / np.median(np.diff(data.t)))), 1) == 0:
+        if gps is not None and k % max(round(0.2 / float(np.median(np.diff(data.t)))), 1) == 0:
             lat, lon, alt, when = gps
             gps_time = when + datetime.timedelta(seconds=18 + float(data.t[k]))  # UTC -> GPS time
             since = gps_time - datetime.datetime(1980, 1, 6, tzinfo=datetime.UTC)
@@ -233,12 +247,22 @@ def dataflash(path: Path, messages, *, text=False) -> Path:
 
     def scaled(fmt, values):
         div = {"c": 100, "C": 100, "e": 100, "E": 100, "L": 1e7}
-        return [v.decode() if isinstance(v, bytes) else f"{v / div[c]:.7f}" if c in div else repr(v)
-                for c, v in zip(fmt, values, strict=True)]  # fmt: skip
+        return [
+            v.decode() if isinstance(v, bytes) else f"{v / div[c]:.7f}" if c in div else repr(v)
+            for c, v in zip(fmt, values, strict=True)
+        ]
 
     def text_of(fmt, values):
-        return [s if isinstance(v, bytes) else s if fmt_char in "cCeEL" else str(v) if isinstance(v, int | np.integer)
-                else repr(float(v)) for fmt_char, v, s in zip(fmt, values, scaled(fmt, values), strict=True)]  # fmt: skip
+        return [
+            s
+            if isinstance(v, bytes)
+            else s
+            if fmt_char in "cCeEL"
+            else str(v)
+            if isinstance(v, int | np.integer)
+            else repr(float(v))
+            for fmt_char, v, s in zip(fmt, values, scaled(fmt, values), strict=True)
+        ]
 
     path.parent.mkdir(parents=True, exist_ok=True)
     declared = set()

@@ -32,6 +32,7 @@ __all__ = [
     "check_plausible",
     "probe",
     "row_norms",
+    "zeroed_rows",
 ]
 
 
@@ -577,3 +578,31 @@ def probe(imu, heads: dict) -> None:
         problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * imu.period, imu.units["gyro"])
         if problem:
             raise ValueError(f"{imu.path}: {problem} (columns {imu.picks['gyro'].label} and {imu.picks['acc'].label})")
+
+
+def zeroed_rows(raws: dict) -> np.ndarray:
+    """Rows whose accelerometer or magnetometer reads exactly (0, 0, 0).
+
+    No sensor does (free fall is never exact to the bit, the Earth's field never zero), but a zeroed block of a
+    damaged file (a MAT or HDF5 page) does.
+
+    Parameters
+    ----------
+    raws : dict
+        ``{kind: (n, 3) array}`` of one chunk, as read.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.plausibility import zeroed_rows
+    >>> zeroed_rows({"gyro": np.zeros((2, 3)), "acc": np.array([[0.0, 0, 0], [0, 0, 9.8]])}).tolist()
+    [True, False]
+    """
+    zero = np.zeros(len(next(iter(raws.values()))), dtype=bool)
+    for v in (raws.get(k) for k in ("acc", "mag")):
+        zero |= False if v is None else ~(v != 0).any(axis=1)
+    return zero

@@ -66,7 +66,9 @@ def layout(name: str, format: str, columns: str, where: str):
     """The numpy layout of one message type and the scale of its columns: ``(dtype, {column: divisor})``."""
     names = [c for c in columns.split(",")] if columns else []
     if len(names) != len(format) or len(set(names)) != len(names):
-        raise ValueError(f"{where}: the FMT of {name} declares {len(format)} formats {format!r} for columns {columns!r}")
+        raise ValueError(
+            f"{where}: the FMT of {name} declares {len(format)} formats {format!r} for columns {columns!r}"
+        )
     fields, divisors = [], {}
     for col, char in zip(names, format, strict=True):
         if char not in _CHARS:
@@ -124,7 +126,7 @@ def scan_binary(path: Path, wanted, sink) -> tuple[list, list]:
                 body = blocks.buf[pos + 3 : pos + FMT_LENGTH].tobytes()
                 typ, size, name, fmt, cols = struct.unpack("<BB4s16s64s", body)
                 name, fmt, cols = _text(name), _text(fmt), _text(cols)
-                if size <= 3 or typ == FMT_TYPE and size != FMT_LENGTH:
+                if size <= 3 or (typ == FMT_TYPE and size != FMT_LENGTH):
                     raise ValueError(f"{path}: the FMT at byte {blocks.base + pos} gives {name} a length of {size}")
                 length[typ] = size
                 names.append(name)
@@ -146,8 +148,14 @@ def scan_binary(path: Path, wanted, sink) -> tuple[list, list]:
                 rest = blocks.buf[pos : blocks.end]
                 # a log is written in pages: the end of the last one is padding (0xFF or 0x00), not a cut message
                 if rest.size and not (np.all(rest == 0xFF) or np.all(rest == 0)):
-                    breaks.append(Break(blocks.base + pos, None, f"the log is cut inside a message ({rest.size} "
-                                        "bytes)", dict(getattr(sink, "counts", counts))))  # fmt: skip
+                    breaks.append(
+                        Break(
+                            blocks.base + pos,
+                            None,
+                            f"the log is cut inside a message ({rest.size} bytes)",
+                            dict(getattr(sink, "counts", counts)),
+                        )
+                    )
                 break
             where = blocks.base + pos
             typ = int(blocks.buf[pos + 2]) if pos + 3 <= blocks.end else -1
@@ -160,7 +168,9 @@ def scan_binary(path: Path, wanted, sink) -> tuple[list, list]:
                 pos = blocks.fill(max(pos, blocks.end - 4096))
             if found < 0 and _padding(blocks.buf[pos : blocks.end]):
                 break
-            breaks.append(Break(where, None if found < 0 else blocks.base + found, what, dict(getattr(sink, "counts", counts))))
+            breaks.append(
+                Break(where, None if found < 0 else blocks.base + found, what, dict(getattr(sink, "counts", counts)))
+            )
             if found < 0:
                 break
             pos = found
@@ -205,7 +215,7 @@ def scan_text(path: Path, wanted, sink) -> tuple[list, list]:
                 continue
             name = parts[0]
             if name == "FMT" and len(parts) >= 6:
-                declared, fmt = parts[3], parts[4]
+                declared = parts[3]
                 columns = [c for c in parts[5:] if c]
                 if declared != "FMT":
                     formats[declared] = columns

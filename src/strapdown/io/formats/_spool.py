@@ -143,8 +143,17 @@ class SpooledSource(Source):
         The unit of each kind's values as the format documents it (``{"gyro": "rad/s", "mag": "gauss"}``).
     """
 
-    def __init__(self, path, format: str, rows: Spool, row_fields: dict, placed: dict, ticks_per_second: int,
-                 origin_kind: str, units: dict):  # fmt: skip
+    def __init__(
+        self,
+        path,
+        format: str,
+        rows: Spool,
+        row_fields: dict,
+        placed: dict,
+        ticks_per_second: int,
+        origin_kind: str,
+        units: dict,
+    ):
         super().__init__(Path(path))
         if rows.n == 0:
             raise ValueError(f"{path}: the gyro's topic has no samples")
@@ -180,7 +189,7 @@ class SpooledSource(Source):
             for kind, names in kinds.items():
                 empty[kind] += int(np.count_nonzero(np.isnan(cols[names[0]])))
         for kind, names in row_fields.items():
-            if kind in empty and empty[kind]:
+            if empty.get(kind):
                 self.sparse.update(names)
         for kind, (spool, names) in self._placed.items():
             if empty[kind] == self.rows and spool.n:

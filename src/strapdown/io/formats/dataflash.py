@@ -14,12 +14,12 @@ What ArduPilot writes (``libraries/AP_Logger/LogStructure.h`` and the log messag
   stored × 1e7) and ``Alt`` (m above mean sea level, stored × 100): the ``position`` hook (:func:`read_position`).
 * Frames: ArduPilot's body axes are FRD and its earth frame NED; a vehicle starts upright.
 
-The binary file is never read whole: a compiled walk over the message headers finds the wanted messages a block at a
-time, numpy decodes them in the layout their ``FMT`` declares, and the samples are spooled (:mod:`._spool`).  pymavlink's
-DFReader, the reference reader, indexes every message of a log in Python lists (some 40 bytes each: 1.6 GB for a
-2 GiB log) and decodes them one by one, so it serves as the tests' oracle rather than as this reader.  A stretch the
-walk cannot read (a type no FMT declares, bytes that start no message) is skipped to the next run of valid messages
-and reported with the samples lost and when; a log cut inside a message says so.
+The binary file is never read whole: a compiled walk over the message headers finds the wanted messages a block at
+a time, numpy decodes them in the layout their ``FMT`` declares, and the samples are spooled (:mod:`._spool`).
+pymavlink's DFReader, the reference reader, indexes every message of a log in Python lists (some 40 bytes each:
+1.6 GB for a 2 GiB log) and decodes them one by one, so it serves as the tests' oracle rather than as this reader.
+A stretch the walk cannot read (a type no FMT declares, bytes that start no message) is skipped to the next run of
+valid messages and reported with the samples lost and when; a log cut inside a message says so.
 """
 
 from __future__ import annotations
@@ -243,7 +243,7 @@ def read_attitude(path, topic: str | None = None):
     from ..source import TimeOrigin
 
     sink = _Collect(("ATT",))
-    names, _ = scan(path, re.compile(r"IMU\d?|ATT").fullmatch, sink)
+    scan(path, re.compile(r"IMU\d?|ATT").fullmatch, sink)
     key = _which(topic, "IMU", Path(path), sink.first)
     att = sink.table("ATT")
     if not att or not all(c in att for c in ("TimeUS", "Roll", "Pitch", "Yaw")):

@@ -66,10 +66,12 @@ def _stamp(msg, received: int) -> int:
 
 @contextlib.contextmanager
 def _reader(path: Path):
-    """rosbags' AnyReader on a bag (a ROS 2 bag's folder for one of its files; a standalone .mcap or .db3 as is)."""
+    """Rosbags' AnyReader on a bag (a ROS 2 bag's folder for one of its files; a standalone .mcap or .db3 as is)."""
     highlevel = need("rosbags.highlevel", "reading ROS bags")
     typesys = need("rosbags.typesys", "reading ROS bags")
-    with highlevel.AnyReader([_bag_path(path)], default_typestore=typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)) as r:
+    with highlevel.AnyReader(
+        [_bag_path(path)], default_typestore=typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
+    ) as r:
         yield r
 
 
@@ -85,7 +87,9 @@ def _messages(reader, connections, topic: str, msgtype: str, path: Path):
         raise ValueError(f"{path}: message {count + 1} of {topic} cannot be read ({exc}): the bag is corrupt") from None
     except Exception as exc:  # rosbags' own errors (ReaderError, deserialisation errors) name no file
         if type(exc).__module__.startswith("rosbags"):
-            raise ValueError(f"{path}: message {count + 1} of {topic} cannot be read ({exc}): the bag is corrupt") from None
+            raise ValueError(
+                f"{path}: message {count + 1} of {topic} cannot be read ({exc}): the bag is corrupt"
+            ) from None
         raise
 
 

@@ -174,8 +174,9 @@ def scan_ulog(path, wanted, sink) -> tuple[list, list]:
                     continue
                 if pos < blocks.end:
                     where = blocks.base + pos
-                    breaks.append(Break(where, None, f"the log is cut inside a message ({size - where} bytes)",
-                                        dict(counts)))  # fmt: skip
+                    breaks.append(
+                        Break(where, None, f"the log is cut inside a message ({size - where} bytes)", dict(counts))
+                    )
                 break
             # CORRUPT: find the next run of valid messages, reading on as long as none is found
             where = blocks.base + pos
@@ -336,9 +337,14 @@ def open_ulog(path, topic: str | None = None, mag_topic: str | None = None) -> S
     name, _, instance = topic.partition(":")
     key = (name, int(instance or 0))
     src.warnings = describe_breaks(
-        path, [_counted(b, key) for b in breaks], lambda i: int(gyro.times(i, i + 1)[0]) if 0 <= i < gyro.n else None,
-        src.period_ticks, _PER_S, gyro.first, f"gyro ({topic})",
-    )  # fmt: skip
+        path,
+        [_counted(b, key) for b in breaks],
+        lambda i: int(gyro.times(i, i + 1)[0]) if 0 <= i < gyro.n else None,
+        src.period_ticks,
+        _PER_S,
+        gyro.first,
+        f"gyro ({topic})",
+    )
     return src
 
 

@@ -116,8 +116,14 @@ def euroc(folder: Path, data, t0_ns=1_403_636_579_758_555_392):
     return _write(folder / "mav0" / "imu0" / "data.csv", header, rows)
 
 
-def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic="/imu/mag", t0_ns=EPOCH_NS):
-    """A ROS bag (rosbags' own writer) with sensor_msgs/Imu on ``imu_topics`` and MagneticField (tesla)."""
+def rosbag(
+    path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic="/imu/mag", t0_ns=EPOCH_NS, storage="sqlite3"
+):
+    """A ROS bag (rosbags' own writer) with sensor_msgs/Imu on ``imu_topics`` and MagneticField (tesla).
+
+    ``storage="mcap"``: a ROS 2 bag folder whose storage is MCAP (``ros2 bag record -s mcap``); its one ``.mcap``
+    file alone is what Foxglove and ``ros2 bag record`` leave as a standalone MCAP.
+    """
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE if version == 2 else Stores.ROS1_NOETIC)
@@ -132,9 +138,10 @@ def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic=
 
     ns = t0_ns + np.round(data.t[:-1] * 1e9).astype(np.int64)
     if version == 2:
-        from rosbags.rosbag2 import Writer
+        from rosbags.rosbag2 import StoragePlugin, Writer
 
-        writer, serialize = Writer(path, version=9), store.serialize_cdr
+        plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+        writer, serialize = Writer(path, version=9, storage_plugin=plugin), store.serialize_cdr
     else:
         from rosbags.rosbag1 import Writer
 

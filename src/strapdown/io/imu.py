@@ -24,7 +24,7 @@ import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .formats.multi import kind_of_file
-from .plausibility import check_chunk, probe, zeroed_rows
+from .plausibility import ZEROED_RUN, check_chunk, probe, zeroed_rows
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
 from .units import (
@@ -441,7 +441,8 @@ class ImuFile:
         if zeroed[0]:
             self.source.warnings.append(
                 f"{self.path}: {zeroed[0]} rows between t = {zeroed[1]:.6g} and {zeroed[2]:.6g} s (file time) read "
-                "exactly 0 on every axis of the accelerometer or magnetometer, which no sensor does: a zeroed block?"
+                f"exactly 0 on an axis of the accelerometer or magnetometer for {ZEROED_RUN} rows or more in a row, which "
+                "no sensor does: a zeroed block of a damaged file?"
             )
 
 

@@ -24,6 +24,7 @@ from .units import GRAVITY, UNITS, scale
 
 __all__ = [
     "LIMITS",
+    "ZEROED_RUN",
     "TimeCheck",
     "check_chunk",
     "check_gravity_sign",
@@ -580,16 +581,25 @@ def probe(imu, heads: dict) -> None:
             raise ValueError(f"{imu.path}: {problem} (columns {imu.picks['gyro'].label} and {imu.picks['acc'].label})")
 
 
-def zeroed_rows(raws: dict) -> np.ndarray:
-    """Rows whose accelerometer or magnetometer reads exactly (0, 0, 0).
+#: Consecutive rows of exact zeros on one axis that are taken as a zeroed block rather than readings.
+ZEROED_RUN = 64
 
-    No sensor does (free fall is never exact to the bit, the Earth's field never zero), but a zeroed block of a
-    damaged file (a MAT or HDF5 page) does.
+
+def zeroed_rows(raws: dict, min_run: int = ZEROED_RUN) -> np.ndarray:
+    """Rows inside a run of ``min_run`` or more exact zeros on an axis of the accelerometer or magnetometer.
+
+    No such sensor reads exactly 0.0 for dozens of samples in a row while it reads otherwise elsewhere (its noise
+    is about a count; free fall is never exact to the bit, the Earth's field never zero), but a zeroed block of
+    a damaged file does: 4 KiB of a MAT or HDF5 file is 512 float64 values of one column, or 170 rows of an
+    (n, 3) array.  An axis that is zero on every row of the chunk (a simulated level (0, 0, 9.81)) is taken as
+    it is, and so is the gyro, which a simulated or quantised sensor at rest may read as 0 for long stretches.
 
     Parameters
     ----------
     raws : dict
         ``{kind: (n, 3) array}`` of one chunk, as read.
+    min_run : int
+        Shortest run of zeros flagged.
 
     Returns
     -------
@@ -599,10 +609,23 @@ def zeroed_rows(raws: dict) -> np.ndarray:
     --------
     >>> import numpy as np
     >>> from strapdown.io.plausibility import zeroed_rows
-    >>> zeroed_rows({"gyro": np.zeros((2, 3)), "acc": np.array([[0.0, 0, 0], [0, 0, 9.8]])}).tolist()
-    [True, False]
+    >>> acc = np.tile([0.1, -0.2, 9.8], (200, 1))
+    >>> acc[50:150, 0] = 0.0  # a zeroed stretch of one column
+    >>> hit = zeroed_rows({"gyro": np.zeros((200, 3)), "acc": acc})
+    >>> int(hit.sum()), int(np.argmax(hit))
+    (100, 50)
     """
-    zero = np.zeros(len(next(iter(raws.values()))), dtype=bool)
-    for v in (raws.get(k) for k in ("acc", "mag")):
-        zero |= False if v is None else ~(v != 0).any(axis=1)
-    return zero
+    n = len(next(iter(raws.values()))) if raws else 0
+    hit = np.zeros(n, dtype=bool)
+    for values in (raws.get(k) for k in ("acc", "mag")):
+        if values is None or n < min_run:
+            continue
+        for axis in np.atleast_2d(values.T):
+            zero = axis == 0
+            if zero.all() or np.count_nonzero(zero) < min_run:
+                continue
+            edges = np.flatnonzero(np.diff(np.concatenate(([0], zero.view(np.int8), [0]))))
+            for a, b in zip(edges[::2], edges[1::2], strict=True):
+                if b - a >= min_run:
+                    hit[a:b] = True
+    return hit

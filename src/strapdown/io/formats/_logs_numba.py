@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numba
 
+from ..._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
+
 NEED, STOP, FULL, CORRUPT = 0, 1, 2, 3  # the walk's statuses: more bytes, a message for Python, output full, bad
 _CHAIN = 4  # messages in a row that must be valid for a resynchronisation point
 

@@ -77,7 +77,8 @@ def describe_breaks(path, breaks, times, period_ticks: float, per_s: float, t0: 
         if before is not None and after is not None:
             lost = max(round((after - before) / period_ticks) - 1, 0) if period_ticks else 0
             span = f"t = {(before - t0) / per_s:.6g} s to {(after - t0) / per_s:.6g} s"
-            out.append(f"{path}: {b.what} at {where}, skipped: about {lost} {stream} samples lost ({span})")
+            count = f"about {lost} {stream} samples lost" if lost else f"no {stream} sample lost, only other messages"
+            out.append(f"{path}: {b.what} at {where}, skipped: {count} ({span})")
         elif before is not None:
             out.append(
                 f"{path}: {b.what} at {where}, skipped: the {stream} readings end there, at "

@@ -9,6 +9,7 @@ magnetometer samples go to the nearest gyro rows (:mod:`strapdown.io.merge`); th
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import tempfile
@@ -478,5 +479,8 @@ class Export:
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, kind, exc, tb):
         self.close()
+        # a member's error names the temporary folder it was unpacked to: name the zip and the member instead
+        if self._unzipped is not None and isinstance(exc, ValueError) and str(self._folder) in str(exc):
+            raise ValueError(str(exc).replace(f"{self._folder}{os.sep}", f"{self.path}: ")) from None

@@ -75,14 +75,23 @@ def _reader(path: Path):
         yield r
 
 
-def _messages(reader, connections, topic: str, msgtype: str, path: Path):
-    """The deserialised messages of one topic with their receive times, naming the file when one cannot be read."""
+def _messages(reader, connections, topic: str, msgtype: str, path: Path, short: list | None = None):
+    """The deserialised messages of one topic with their receive times, naming the file when one cannot be read.
+
+    A bag's index counts each topic's messages (ROS 1's connection records, ROS 2's metadata, MCAP's statistics);
+    when fewer can be read (a damaged MCAP chunk ends the reading early, without an error), ``(topic, read,
+    counted, seconds from the first to the last receive time)`` is appended to ``short``.
+    """
     conns = [c for c in connections if c.topic == topic and c.msgtype == msgtype]
-    count = 0
+    count, first, last = 0, None, None
     try:
         for conn, received, raw in reader.messages(connections=conns):
             count += 1
+            first, last = received if first is None else first, received
             yield reader.deserialize(raw, conn.msgtype), received
+        counted = sum(int(getattr(c, "msgcount", 0) or 0) for c in conns)
+        if short is not None and count < counted:
+            short.append((topic, count, counted, 0.0 if first is None else (last - first) / 1e9))
     except (ValueError, OSError, KeyError, IndexError, struct.error) as exc:
         raise ValueError(f"{path}: message {count + 1} of {topic} cannot be read ({exc}): the bag is corrupt") from None
     except Exception as exc:  # rosbags' own errors (ReaderError, deserialisation errors) name no file
@@ -151,13 +160,14 @@ def open_bag(path, topic: str | None = None, mag_topic: str | None = None):
         connections = list(reader.connections)
         imu_topic = _choose(connections, IMU_TYPE, topic, "--topic", path, required=True)
         mag = None if mag_topic == "none" else _choose(connections, MAG_TYPE, mag_topic, "--mag-topic", path, False)
-        rows = _spooled(path, _messages(reader, connections, imu_topic, IMU_TYPE, path), 6, _imu_values)
+        short = []  # topics of which fewer messages could be read than the bag's index counts
+        rows = _spooled(path, _messages(reader, connections, imu_topic, IMU_TYPE, path, short), 6, _imu_values)
         placed = {}
         try:
             if rows.n == 0:
                 raise ValueError(f"{path}: topic {imu_topic!r} has no messages")
             if mag is not None:
-                spool = _spooled(path, _messages(reader, connections, mag, MAG_TYPE, path), 3, _mag_values)
+                spool = _spooled(path, _messages(reader, connections, mag, MAG_TYPE, path, short), 3, _mag_values)
                 if spool.n == 0:
                     raise ValueError(f"{path}: topic {mag!r} has no messages")
                 placed["mag"] = (spool, tuple(f"{mag}/magnetic_field.{c}" for c in "xyz"))
@@ -172,6 +182,11 @@ def open_bag(path, topic: str | None = None, mag_topic: str | None = None):
             raise
     src.frame, src.body = "ENU", "FLU"
     src.topic = imu_topic
+    src.warnings = [
+        f"{path}: {topic}: {got} of the {counted} messages its index counts could be read, {counted - got} lost "
+        f"after {span:.6g} s of the topic (receive time): the bag is damaged or cut there"
+        for topic, got, counted, span in short
+    ]
     return src
 
 

@@ -441,8 +441,8 @@ class ImuFile:
         if zeroed[0]:
             self.source.warnings.append(
                 f"{self.path}: {zeroed[0]} rows between t = {zeroed[1]:.6g} and {zeroed[2]:.6g} s (file time) read "
-                f"exactly 0 on an axis of the accelerometer or magnetometer for {ZEROED_RUN} rows or more in a row, which "
-                "no sensor does: a zeroed block of a damaged file?"
+                f"exactly 0 on an axis of the accelerometer or magnetometer for {ZEROED_RUN} rows or more in a "
+                "row, which no sensor does: a zeroed block of a damaged file?"
             )
 
 

@@ -57,21 +57,26 @@ def write_ulog(path: Path, size: int) -> Path:
             if first_d is not None:
                 subscriptions.append(every[-1])
         pos += 3 + n
-    # the gyro's subscription (uint8 multi_id, uint16 msg_id, the topic's name): its span sets the copies' step
-    gyro_id = next(struct.unpack_from("<H", a, 4)[0] for a in every if a[6:] == b"sensor_combined")
+    # the subscriptions (uint8 multi_id, uint16 msg_id, the topic's name); the gyro's span sets the copies' step
+    topic = {struct.unpack_from("<H", a, 4)[0]: a[6:].decode() for a in every}
+    gyro_id = next(i for i, name in topic.items() if name == "sensor_combined")
     ids = np.array([struct.unpack_from("<H", data, s + 3)[0] for s, _ in starts])
     stamps = np.array([struct.unpack_from("<Q", data, s + 5)[0] for s, _ in starts])
+    sample_at = _timestamp_sample_offsets()  # topic -> offset of its timestamp_sample, which readers prefer
     gyro = stamps[ids == gyro_id]
     span = int(gyro[-1] - gyro[0]) + 4000  # the gyro's length and one 250 Hz period, µs
     keep = (stamps >= gyro[0]) & (stamps < gyro[0] + span)  # every topic's messages of that time, once
     starts = [s for s, k in zip(starts, keep, strict=True) if k]
-    stamps = stamps[keep]
     raw = np.frombuffer(data, np.uint8)
     body = np.concatenate([raw[s : s + 3 + n] for s, n in starts])
     sizes = np.array([n for _, n in starts])
     # where each message's timestamp (its first field, uint64 after the uint16 msg_id) sits in the body
     offsets = np.concatenate(([0], np.cumsum(3 + sizes)[:-1])) + 5
+    kept_ids = ids[keep]
+    second = [o + sample_at[topic[i]] for o, i in zip(offsets, kept_ids, strict=True) if topic[i] in sample_at]
+    offsets = np.concatenate([offsets, np.array(second, dtype=offsets.dtype)])
     stamp_bytes = offsets[:, None] + np.arange(8)
+    stamps = body[stamp_bytes].copy().view("<u8").reshape(-1)
     with open(path, "wb") as f:
         f.write(data[:first_d] + b"".join(subscriptions))
         copy, written = 0, f.tell()
@@ -82,6 +87,29 @@ def write_ulog(path: Path, size: int) -> Path:
             written += block.size
             copy += 1
     return path
+
+
+_SIZES = {"int8_t": 1, "uint8_t": 1, "bool": 1, "char": 1, "int16_t": 2, "uint16_t": 2, "int32_t": 4}
+_SIZES |= {"uint32_t": 4, "float": 4, "int64_t": 8, "uint64_t": 8, "double": 8}
+
+
+def _timestamp_sample_offsets() -> dict:
+    """For each topic of the PX4 log with a ``timestamp_sample``: its offset from the ``timestamp`` field."""
+    from pyulog import ULog
+
+    formats = ULog(str(PX4)).message_formats
+
+    def size(kind: str) -> int:
+        return _SIZES.get(kind) or sum(size(t) * max(n, 1) for t, n, _ in formats[kind].fields)  # 0: a scalar
+
+    out = {}
+    for name, fmt in formats.items():
+        at = 0
+        for kind, n, field in fmt.fields:
+            if field == "timestamp_sample":
+                out[name] = at  # from the message start, where timestamp (the first field) is
+            at += size(kind) * max(n, 1)
+    return out
 
 
 # ----------------------------------------------------------------------------------------------------- DataFlash

@@ -177,3 +177,18 @@ def test_standalone_mcap_reads_as_its_ros2_bag_folder(tmp_path):
     res = _run("estimate", alone, "-o", out)
     assert res.returncode == 0, res.stderr
     assert out.is_file()
+
+
+def test_a_magnetometer_that_stops_leaves_nan_rows_in_every_later_chunk(tmp_path, data):
+    from strapdown.io.formats.dataflash import open_dataflash
+
+    msgs = sim.dataflash_messages(data, t0_us=T0_US)
+    imu_times = [v[0] for name, v in msgs if name == "IMU"]
+    stop = imu_times[len(imu_times) // 4]
+    path = sim.dataflash(tmp_path / "stops.bin", [m for m in msgs if m[0] != "MAG" or m[1][0] < stop])
+    with open_dataflash(path) as src:
+        names = [f for f in src.fields if f.startswith("MAG/")]
+        blocks = [cols[names[0]] for _, cols in src.chunks(names, 200)]  # chunks after the stop hold no sample
+    mag = np.concatenate(blocks)
+    assert len(mag) == len(imu_times) and not np.isnan(mag[: len(mag) // 4 - 2 : 2]).any()
+    assert np.isnan(mag[len(mag) // 4 + 1 :]).all()

@@ -44,7 +44,9 @@ def place_on_rows(t_rows, t_samples, values, period: float | None = None) -> np.
     """
     t_rows = np.asarray(t_rows)
     t_samples = np.asarray(t_samples)
-    values = np.asarray(values, dtype=np.float64).reshape(t_samples.shape[0], -1)
+    values = np.asarray(values, dtype=np.float64)
+    if values.ndim != 2:  # (n,) or (n, k): an empty (0, k) block keeps its k, which reshape cannot infer
+        values = values.reshape(t_samples.shape[0], -1)
     out = np.full((t_rows.shape[0], values.shape[1]), np.nan)
     if t_rows.size == 0 or t_samples.size == 0:
         return out

@@ -117,12 +117,23 @@ def euroc(folder: Path, data, t0_ns=1_403_636_579_758_555_392):
 
 
 def rosbag(
-    path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic="/imu/mag", t0_ns=EPOCH_NS, storage="sqlite3"
+    path: Path,
+    data,
+    *,
+    version=2,
+    imu_topics=("/imu/data",),
+    mag_topic="/imu/mag",
+    t0_ns=EPOCH_NS,
+    storage="sqlite3",
+    orientation=False,
+    fix=None,
 ):
     """A ROS bag (rosbags' own writer) with sensor_msgs/Imu on ``imu_topics`` and MagneticField (tesla).
 
     ``storage="mcap"``: a ROS 2 bag folder whose storage is MCAP (``ros2 bag record -s mcap``); its one ``.mcap``
-    file alone is what Foxglove and ``ros2 bag record`` leave as a standalone MCAP.
+    file alone is what Foxglove and ``ros2 bag record`` leave as a standalone MCAP.  ``orientation=True``: the
+    Imu messages carry the true attitude as a driver's own estimate (else covariance[0] = -1, REP 145's "none");
+    ``fix=(lat, lon, alt)``: a ``sensor_msgs/NavSatFix`` on ``/gps/fix`` at 1 Hz (status 0: a fix).
     """
     from rosbags.typesys import Stores, get_typestore
 
@@ -131,6 +142,7 @@ def rosbag(
     Imu, Mag = T["sensor_msgs/msg/Imu"], T["sensor_msgs/msg/MagneticField"]
     Header, Time = T["std_msgs/msg/Header"], T["builtin_interfaces/msg/Time"]
     Vector3, Quaternion = T["geometry_msgs/msg/Vector3"], T["geometry_msgs/msg/Quaternion"]
+    Fix, FixStatus = T["sensor_msgs/msg/NavSatFix"], T["sensor_msgs/msg/NavSatStatus"]
 
     def header(ns):
         stamp = Time(sec=int(ns // 1_000_000_000), nanosec=int(ns % 1_000_000_000))
@@ -151,12 +163,14 @@ def rosbag(
         zeros = np.zeros(9)
         imus = [writer.add_connection(tp, Imu.__msgtype__, typestore=store) for tp in imu_topics]
         mag = writer.add_connection(mag_topic, Mag.__msgtype__, typestore=store) if mag_topic else None
+        gps = writer.add_connection("/gps/fix", Fix.__msgtype__, typestore=store) if fix else None
         for k, stamp in enumerate(ns):
             w, f, m = data.gyro[k], data.acc[k], data.mag[k]
+            q = data.q_true[k] if orientation else (1.0, 0.0, 0.0, 0.0)
             msg = Imu(
                 header=header(stamp),
-                orientation=Quaternion(x=0.0, y=0.0, z=0.0, w=1.0),
-                orientation_covariance=np.full(9, -1.0),
+                orientation=Quaternion(x=q[1], y=q[2], z=q[3], w=q[0]),
+                orientation_covariance=zeros if orientation else np.full(9, -1.0),
                 angular_velocity=Vector3(x=w[0], y=w[1], z=w[2]),
                 angular_velocity_covariance=zeros,
                 linear_acceleration=Vector3(x=f[0], y=f[1], z=f[2]),
@@ -172,6 +186,11 @@ def rosbag(
                     magnetic_field_covariance=zeros,
                 )
                 writer.write(mag, int(stamp + 1_000_000), serialize(field, Mag.__msgtype__))
+            if gps is not None and k % max(round(data.rate_hz), 1) == 0:
+                status = FixStatus(status=0, service=1)
+                point = Fix(header=header(stamp), status=status, latitude=fix[0], longitude=fix[1], altitude=fix[2],
+                            position_covariance=zeros, position_covariance_type=0)  # fmt: skip
+                writer.write(gps, int(stamp), serialize(point, Fix.__msgtype__))
     finally:
         writer.close()
     return path

@@ -11,6 +11,7 @@ import datetime
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -192,3 +193,45 @@ def test_a_magnetometer_that_stops_leaves_nan_rows_in_every_later_chunk(tmp_path
     mag = np.concatenate(blocks)
     assert len(mag) == len(imu_times) and not np.isnan(mag[: len(mag) // 4 - 2 : 2]).any()
     assert np.isnan(mag[len(mag) // 4 + 1 :]).all()
+
+
+# ----------------------------------------------------------------------------------------------------- the hooks
+def test_ulog_hooks_are_vehicle_attitude_and_the_first_3d_gps_fix_as_pyulog_reads_them():
+    from pyulog import ULog
+
+    log = Path(__file__).resolve().parents[1] / "data" / "px4" / "sample_log_small.ulg"
+    ulog = ULog(str(log), ["vehicle_attitude", "vehicle_gps_position", "sensor_combined"])
+    att = ulog.get_dataset("vehicle_attitude").data
+    gyro0 = ulog.get_dataset("sensor_combined").data["timestamp"][0]
+    ref = formats()["ulog"].reference(log)
+    assert (ref["frame"], ref["body"], ref["source"]) == ("NED", "FRD", "vehicle_attitude")
+    np.testing.assert_allclose(ref["q"], np.column_stack([att[f"q[{i}]"] for i in range(4)]), rtol=1e-6)
+    stamp = att.get("timestamp_sample", att["timestamp"])
+    np.testing.assert_allclose(ref["t"], (stamp.astype(np.int64) - int(gyro0)) / 1e6)
+    gps = ulog.get_dataset("vehicle_gps_position").data
+    i = int(np.argmax((gps["fix_type"] >= 3) & (gps["time_utc_usec"] > 0)))
+    pos = formats()["ulog"].position(log)
+    assert pos["latitude_deg"] == pytest.approx(gps["lat"][i] * 1e-7) and pos["altitude_m"] == pytest.approx(
+        gps["alt"][i] * 1e-3
+    )
+    when = datetime.datetime.fromtimestamp(int(gps["time_utc_usec"][i]) / 1e6, datetime.UTC)
+    assert pos["date"] == when.date() == datetime.date(2021, 4, 21)
+
+
+@pytest.mark.parametrize("version", [1, 2])
+def test_bag_hooks_are_the_imu_orientation_and_the_first_navsatfix(tmp_path, version):
+    data = sim.phone_at_rest(body="FLU", duration=3.0)
+    path = sim.rosbag(tmp_path / ("r.bag" if version == 1 else "r"), data, version=version, orientation=True,
+                      fix=PLACE)  # fmt: skip
+    ref = formats()["rosbag"].reference(path)
+    assert (ref["frame"], ref["body"], ref["source"]) == ("ENU", "FLU", "Imu orientation")
+    np.testing.assert_allclose(ref["q"], data.q_true[: len(data.t) - 1], atol=1e-12)
+    np.testing.assert_allclose(ref["t"], data.t[:-1] - data.t[0], atol=1e-9)
+    pos = formats()["rosbag"].position(path)
+    assert (pos["latitude_deg"], pos["longitude_deg"], pos["altitude_m"]) == PLACE
+    expected = datetime.datetime.fromtimestamp(sim.EPOCH_NS / 1e9, datetime.UTC).date()  # the first stamp's day
+    assert pos["date"] == expected
+    bare = sim.rosbag(tmp_path / ("b.bag" if version == 1 else "b"), data, version=version)
+    assert formats()["rosbag"].position(bare) is None
+    with pytest.raises(ValueError, match="carry no orientation"):
+        formats()["rosbag"].reference(bare)

@@ -67,6 +67,8 @@ def _stamp(msg, received: int) -> int:
 @contextlib.contextmanager
 def _reader(path: Path):
     """Rosbags' AnyReader on a bag (a ROS 2 bag's folder for one of its files; a standalone .mcap or .db3 as is)."""
+    if not path.exists():
+        raise FileNotFoundError(f"no such bag: {path}")
     highlevel = need("rosbags.highlevel", "reading ROS bags")
     typesys = need("rosbags.typesys", "reading ROS bags")
     with highlevel.AnyReader(
@@ -154,8 +156,6 @@ def open_bag(path, topic: str | None = None, mag_topic: str | None = None):
     FileNotFoundError: no such bag: no/such.bag
     """
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"no such bag: {path}")
     with _reader(path) as reader:
         connections = list(reader.connections)
         imu_topic = _choose(connections, IMU_TYPE, topic, "--topic", path, required=True)
@@ -219,8 +219,6 @@ def read_attitude(path, topic: str | None = None):
     from ..source import TimeOrigin
 
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"no such bag: {path}")
     with _reader(path) as reader:
         connections = list(reader.connections)
         chosen = _choose(connections, IMU_TYPE, topic, "--topic", path, required=True)
@@ -272,8 +270,6 @@ def read_position(path) -> dict | None:
     FileNotFoundError: no such bag: no/such.bag
     """
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"no such bag: {path}")
     with _reader(path) as reader:
         connections = list(reader.connections)
         for topic in sorted({c.topic for c in connections if c.msgtype == FIX_TYPE}):

@@ -68,7 +68,9 @@ def _representation_fields(fields: dict, rep: str, angles: Angles, given: str | 
     )
 
 
-def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angles, angles_out: Angles):
+def convert_values(
+    values: np.ndarray, source: str, target: str, angles_in: Angles, angles_out: Angles, *, unit_norm: bool = False
+):
     """Convert an (N, width) array between representations; rows with NaN stay NaN (unknown attitudes).
 
     Parameters
@@ -79,6 +81,9 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
         Keys of :data:`strapdown.io.tables.REPRESENTATIONS`.
     angles_in, angles_out : Angles
         Sequences and units of the input and output.
+    unit_norm : bool
+        Refuse a quaternion whose norm is outside 0.5 .. 2 (the rows of a file, where ``qw = 1e308`` is a damaged
+        value); False: any scale is an attitude (numbers typed on the command line).
 
     Returns
     -------
@@ -104,8 +109,9 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
         zero = np.flatnonzero(ok & ~(np.abs(values) > 0).any(axis=1))
         if zero.size:
             raise RowError(int(zero[0]), "a zero quaternion, which is no attitude")
-        # an attitude's quaternion has norm 1; one of norm 1e308 (or 1e-300) is a damaged value, not a scaling
-        # (the norm from the largest component: the sum of squares would overflow)
+    if source == "quat" and unit_norm:
+        # in a file an attitude's quaternion has norm 1; one of norm 1e308 (or 1e-300) is a damaged value, not a
+        # scaling (the norm from the largest component: the sum of squares would overflow)
         big = np.abs(values).max(axis=1)
         norm = big * np.sqrt(((values / np.where(big > 0, big, 1.0)[:, None]) ** 2).sum(axis=1))
         far = np.flatnonzero(ok & ~((norm > _NORM_RANGE[0]) & (norm < _NORM_RANGE[1])))
@@ -259,7 +265,7 @@ def convert_file(
             for row, cols in src.chunks(wanted, chunk_rows):
                 values = cols[fields[0]] if len(fields) == 1 else np.column_stack([cols[f] for f in fields])
                 try:
-                    converted = convert_values(values, source, target, angles_in, angles_out)
+                    converted = convert_values(values, source, target, angles_in, angles_out, unit_norm=True)
                 except RowError as exc:
                     raise ValueError(
                         f"{path}: {src.where(row + exc.row)} ({', '.join(fields)}) holds {exc.problem}"

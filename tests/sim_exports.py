@@ -116,8 +116,25 @@ def euroc(folder: Path, data, t0_ns=1_403_636_579_758_555_392):
     return _write(folder / "mav0" / "imu0" / "data.csv", header, rows)
 
 
-def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic="/imu/mag", t0_ns=EPOCH_NS):
-    """A ROS bag (rosbags' own writer) with sensor_msgs/Imu on ``imu_topics`` and MagneticField (tesla)."""
+def rosbag(
+    path: Path,
+    data,
+    *,
+    version=2,
+    imu_topics=("/imu/data",),
+    mag_topic="/imu/mag",
+    t0_ns=EPOCH_NS,
+    storage="sqlite3",
+    orientation=False,
+    fix=None,
+):
+    """A ROS bag (rosbags' own writer) with sensor_msgs/Imu on ``imu_topics`` and MagneticField (tesla).
+
+    ``storage="mcap"``: a ROS 2 bag folder whose storage is MCAP (``ros2 bag record -s mcap``); its one ``.mcap``
+    file alone is what Foxglove and ``ros2 bag record`` leave as a standalone MCAP.  ``orientation=True``: the
+    Imu messages carry the true attitude as a driver's own estimate (else covariance[0] = -1, REP 145's "none");
+    ``fix=(lat, lon, alt)``: a ``sensor_msgs/NavSatFix`` on ``/gps/fix`` at 1 Hz (status 0: a fix).
+    """
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE if version == 2 else Stores.ROS1_NOETIC)
@@ -125,6 +142,7 @@ def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic=
     Imu, Mag = T["sensor_msgs/msg/Imu"], T["sensor_msgs/msg/MagneticField"]
     Header, Time = T["std_msgs/msg/Header"], T["builtin_interfaces/msg/Time"]
     Vector3, Quaternion = T["geometry_msgs/msg/Vector3"], T["geometry_msgs/msg/Quaternion"]
+    Fix, FixStatus = T["sensor_msgs/msg/NavSatFix"], T["sensor_msgs/msg/NavSatStatus"]
 
     def header(ns):
         stamp = Time(sec=int(ns // 1_000_000_000), nanosec=int(ns % 1_000_000_000))
@@ -132,9 +150,10 @@ def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic=
 
     ns = t0_ns + np.round(data.t[:-1] * 1e9).astype(np.int64)
     if version == 2:
-        from rosbags.rosbag2 import Writer
+        from rosbags.rosbag2 import StoragePlugin, Writer
 
-        writer, serialize = Writer(path, version=9), store.serialize_cdr
+        plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+        writer, serialize = Writer(path, version=9, storage_plugin=plugin), store.serialize_cdr
     else:
         from rosbags.rosbag1 import Writer
 
@@ -144,12 +163,14 @@ def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic=
         zeros = np.zeros(9)
         imus = [writer.add_connection(tp, Imu.__msgtype__, typestore=store) for tp in imu_topics]
         mag = writer.add_connection(mag_topic, Mag.__msgtype__, typestore=store) if mag_topic else None
+        gps = writer.add_connection("/gps/fix", Fix.__msgtype__, typestore=store) if fix else None
         for k, stamp in enumerate(ns):
             w, f, m = data.gyro[k], data.acc[k], data.mag[k]
+            q = data.q_true[k] if orientation else (1.0, 0.0, 0.0, 0.0)
             msg = Imu(
                 header=header(stamp),
-                orientation=Quaternion(x=0.0, y=0.0, z=0.0, w=1.0),
-                orientation_covariance=np.full(9, -1.0),
+                orientation=Quaternion(x=q[1], y=q[2], z=q[3], w=q[0]),
+                orientation_covariance=zeros if orientation else np.full(9, -1.0),
                 angular_velocity=Vector3(x=w[0], y=w[1], z=w[2]),
                 angular_velocity_covariance=zeros,
                 linear_acceleration=Vector3(x=f[0], y=f[1], z=f[2]),
@@ -165,6 +186,127 @@ def rosbag(path: Path, data, *, version=2, imu_topics=("/imu/data",), mag_topic=
                     magnetic_field_covariance=zeros,
                 )
                 writer.write(mag, int(stamp + 1_000_000), serialize(field, Mag.__msgtype__))
+            if gps is not None and k % max(round(data.rate_hz), 1) == 0:
+                status = FixStatus(status=0, service=1)
+                point = Fix(header=header(stamp), status=status, latitude=fix[0], longitude=fix[1], altitude=fix[2],
+                            position_covariance=zeros, position_covariance_type=0)  # fmt: skip
+                writer.write(gps, int(stamp), serialize(point, Fix.__msgtype__))
     finally:
         writer.close()
+    return path
+
+
+# ArduPilot's message layouts (libraries/AP_Logger/LogStructure.h): name -> (type, format, columns)
+DATAFLASH_LAYOUTS = {
+    "FMT": (128, "BBnNZ", "Type,Length,Name,Format,Columns"),
+    "PARM": (64, "QNff", "TimeUS,Name,Value,Default"),
+    "MSG": (65, "QZ", "TimeUS,Message"),
+    "IMU": (66, "QBffffffIIfBBHH", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz"),
+    "MAG": (67, "QBhhhhhhhhhBI", "TimeUS,I,MagX,MagY,MagZ,OfsX,OfsY,OfsZ,MOX,MOY,MOZ,Health,S"),
+    "ATT": (68, "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF"),
+    "GPS": (69, "QBBIHBcLLeffffB", "TimeUS,I,Status,GMS,GWk,NSats,HDop,Lat,Lng,Alt,Spd,GCrs,VZ,Yaw,U"),
+}
+_STRUCT = {
+    "Q": "Q",
+    "B": "B",
+    "f": "f",
+    "I": "I",
+    "H": "H",
+    "h": "h",
+    "c": "h",
+    "C": "H",
+    "L": "i",
+    "e": "i",
+    "n": "4s",
+    "N": "16s",
+    "Z": "64s",
+    "i": "i",
+}
+
+
+def dataflash_messages(data, *, t0_us=12_345_678, imus=1, mag_every=2, att_every=4, gps=None):
+    """The messages (name, values as ArduPilot stores them) of a log of simulated NED/FRD readings ``data``.
+
+    IMU at the data's rate (``imus`` instances, the later ones with a small offset on the gyro), MAG every
+    ``mag_every`` samples in mG (int16), ATT every ``att_every`` samples from the true attitude in centidegrees,
+    GPS (``(lat, lon, alt_m, datetime UTC)``) at 5 Hz with GPS week and time of week.
+    """
+    import datetime
+
+    from strapdown import as_euler
+
+    out = [("PARM", (t0_us, b"INS_GYRO_FILTER", 20.0, 20.0)), ("MSG", (t0_us, b"ArduCopter V4.5.0 (simulated)"))]
+    t_us = t0_us + np.round(data.t[:-1] * 1e6).astype(np.int64)
+    euler = as_euler(data.q_true[: len(t_us)], "ZYX", degrees=True)  # yaw, pitch, roll
+    for k, t in enumerate(t_us):
+        for i in range(imus):
+            g = data.gyro[k] + 0.001 * i
+            out.append(("IMU", (int(t), i, *g, *data.acc[k], 0, 0, 25.0, 1, 1, 400, 400)))
+        if k % mag_every == 0:
+            m = np.round(data.mag[k] * 10.0).astype(int)  # µT -> mG
+            out.append(("MAG", (int(t) + 500, 0, *m, 0, 0, 0, 0, 0, 0, 1, int(t) // 1000)))
+        if k % att_every == 0:
+            yaw, pitch, roll = euler[k]
+            c = [round(v * 100) for v in (roll, roll, pitch, pitch)]
+            out.append(("ATT", (int(t), *c, round((yaw % 360) * 100), round((yaw % 360) * 100), 0, 0, 1)))
+        if gps is not None and k % max(round(0.2 / float(np.median(np.diff(data.t)))), 1) == 0:
+            lat, lon, alt, when = gps
+            gps_time = when + datetime.timedelta(seconds=18 + float(data.t[k]))  # UTC -> GPS time
+            since = gps_time - datetime.datetime(1980, 1, 6, tzinfo=datetime.UTC)
+            week, ms = divmod(round(since.total_seconds() * 1000), 7 * 86_400_000)
+            values = (int(t), 0, 3, ms, week, 12, 80, round(lat * 1e7), round(lon * 1e7), round(alt * 100))
+            out.append(("GPS", (*values, 0.0, 0.0, 0.0, 0.0, 1)))
+    return out
+
+
+def dataflash(path: Path, messages, *, text=False) -> Path:
+    """A DataFlash log of ``messages`` (:func:`dataflash_messages`): binary (``.bin``) or text (``.log``).
+
+    Binary: ``0xA3 0x95 type`` and the packed little-endian payload of each message, each type's FMT before its
+    first use.  Text: ``NAME, v, v, ...`` lines as Mission Planner writes them, the scaled values (c and C / 100,
+    L / 1e7, e / 100).
+    """
+    import struct
+
+    def payload(fmt, values):
+        return struct.pack("<" + "".join(_STRUCT[c] for c in fmt), *values)
+
+    def scaled(fmt, values):
+        div = {"c": 100, "C": 100, "e": 100, "E": 100, "L": 1e7}
+        return [
+            v.decode() if isinstance(v, bytes) else f"{v / div[c]:.7f}" if c in div else repr(v)
+            for c, v in zip(fmt, values, strict=True)
+        ]
+
+    def text_of(fmt, values):
+        return [
+            s
+            if isinstance(v, bytes)
+            else s
+            if fmt_char in "cCeEL"
+            else str(v)
+            if isinstance(v, int | np.integer)
+            else repr(float(v))
+            for fmt_char, v, s in zip(fmt, values, scaled(fmt, values), strict=True)
+        ]
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    declared = set()
+    with open(path, "wb") as f:
+        for name, values in [("FMT", None), *messages]:
+            typ, fmt, cols = DATAFLASH_LAYOUTS[name]
+            if name not in declared:
+                declared.add(name)
+                length = 3 + struct.calcsize("<" + "".join(_STRUCT[c] for c in fmt))
+                fmt_values = (typ, length, name.encode(), fmt.encode(), cols.encode())
+                if text:
+                    f.write(f"FMT, {typ}, {length}, {name}, {fmt}, {cols}\n".encode())
+                else:
+                    f.write(bytes([0xA3, 0x95, 128]) + payload(DATAFLASH_LAYOUTS["FMT"][1], fmt_values))
+            if values is None:
+                continue
+            if text:
+                f.write((", ".join([name, *text_of(fmt, values)]) + "\n").encode())
+            else:
+                f.write(bytes([0xA3, 0x95, typ]) + payload(fmt, values))
     return path

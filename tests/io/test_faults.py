@@ -1,5 +1,7 @@
 """Faults leave nothing but the old output (issue 14): signals, kill -9, a full disk, for every output format.
 
+And corrupted, truncated and hostile input files never pass silently (issue 28): see the last section.
+
 Each test runs the CLI as ``python -m strapdown.cli`` in a child process with an existing output in place,
 injects the fault, and then lists the folder: the old output must be there, unchanged, and nothing else of
 ours.  A full disk is simulated with RLIMIT_FSIZE (writes past the limit fail with EFBIG, SIGXFSZ ignored), which
@@ -9,10 +11,15 @@ needs no root and no mount; the HDF5 writer used to segfault there.
 import contextlib
 import os
 import re
+import shutil
 import signal
+import struct
 import subprocess
 import sys
+import tempfile
 import time
+import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -228,3 +235,276 @@ def test_a_killed_dask_worker_leaves_no_temporary(recording, tmp_path, spawn):
             err = _finish(proc, timeout=300)
     assert proc.returncode == 0, err[-2000:]
     assert _leftovers(tmp_path, inputs) == ["in0.integrate.parquet", "in1.integrate.parquet"]
+
+
+# ------------------------------------------------------------------------------------- corrupted files (issue 28)
+# Corrupted, truncated and hostile variants of real logs: never a silent loss.  A reader either stops with a
+# message that names the file and where it broke, and writes nothing, or reads on and warns with the samples lost
+# and their time span.  Memory is measured as a child's peak RSS (a bound, never a time).
+PX4 = Path(__file__).resolve().parents[1] / "data" / "px4" / "sample_logging_tagged_and_default_params.ulg"
+
+
+def _run_measured(*args):
+    """``strapdown ARGS`` in a child of a fresh interpreter: (returncode, stdout + stderr, the child's peak RSS, B)."""
+    code = (
+        "import resource, subprocess, sys\n"
+        "r = subprocess.run(sys.argv[1:], capture_output=True, text=True)\n"
+        "sys.stdout.write(r.stdout + r.stderr)\n"
+        "print('\\nPEAK_KIB', resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)\n"  # Linux: KiB
+        "sys.exit(r.returncode)\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code, *_cli(*args)], capture_output=True, text=True, timeout=600)
+    text, _, peak = res.stdout.rpartition("PEAK_KIB")
+    return res.returncode, text + res.stderr, int(peak) * 1024
+
+
+def _ulog_messages(data: bytes, kind: bytes):
+    """Offsets of the ULog messages of one type (``b"D"``): uint16 size, uint8 type, payload (PX4 ULog format)."""
+    pos, found = 16, []  # after the 16-byte file header
+    while pos + 3 <= len(data):
+        size, typ = struct.unpack_from("<HB", data, pos)
+        if typ == kind[0]:
+            found.append(pos)
+        pos += 3 + size
+    return found
+
+
+def _rows(path):
+    from strapdown.io import read_table
+
+    return len(read_table(path)["t"])
+
+
+def _estimate(log, out):
+    code, text, _ = _run_measured("estimate", log, "-o", out)
+    return code, text
+
+
+@pytest.fixture(scope="module")
+def px4_rows(tmp_path_factory):
+    out = tmp_path_factory.mktemp("px4") / "whole.csv"
+    code, text = _estimate(PX4, out)
+    assert code == 0, text
+    return _rows(out)
+
+
+def test_a_ulog_data_message_of_size_0xffff_is_skipped_and_warned_with_the_samples_lost(tmp_path, px4_rows):
+    data = bytearray(PX4.read_bytes())
+    at = _ulog_messages(data, b"D")[len(_ulog_messages(data, b"D")) // 3]
+    struct.pack_into("<H", data, at, 0xFFFF)  # the size field of one data message
+    log = tmp_path / "ffff.ulg"
+    log.write_bytes(data)
+    code, text = _estimate(log, tmp_path / "out.csv")
+    assert code == 0, text
+    said = (
+        rf"warning: {re.escape(str(log))}: a data message of \d+ bytes .* at bytes (\d+) to (\d+), skipped: "
+        r"(about (\d+)|no) gyro \(sensor_combined\) samples? lost.*\(t = ([\d.]+) s to ([\d.]+) s\)"
+    )
+    warning = re.search(said, text)
+    assert warning, text
+    assert int(warning.group(1)) == at
+    lost = int(warning.group(4) or 0)
+    # the count said is the count missing, up to one: it is told from the gap in the gyro's times, and this log
+    # has such a gap of one period there already (PX4 logs drop a sample now and then)
+    assert abs(px4_rows - _rows(tmp_path / "out.csv") - lost) <= 1
+    assert float(warning.group(5)) < float(warning.group(6))
+    assert "pyulog" not in text.lower()  # no third-party print on stdout
+
+
+@pytest.mark.parametrize("bit", [0, 3, 9, 14])
+def test_one_flipped_bit_in_a_ulog_size_field_loses_no_row_unsaid(tmp_path, px4_rows, bit):
+    data = bytearray(PX4.read_bytes())
+    offsets = _ulog_messages(data, b"D")
+    at = offsets[len(offsets) // 2 + bit]
+    data[at + bit // 8] ^= 1 << (bit % 8)
+    log = tmp_path / "flip.ulg"
+    log.write_bytes(data)
+    code, text = _estimate(log, tmp_path / "out.csv")
+    assert code == 0, text
+    missing = px4_rows - _rows(tmp_path / "out.csv")
+    warned = re.findall(r"about (\d+) gyro \(sensor_combined\) samples lost", text)
+    assert f"warning: {log}" in text  # the break is said, whatever it cost
+    assert abs(missing - sum(map(int, warned))) <= len(warned)  # each told from a gap in the times: about
+
+
+def test_a_cut_ulog_warns_where_it_ends_and_one_cut_before_its_data_writes_nothing(tmp_path):
+    data = PX4.read_bytes()
+    cut = tmp_path / "cut.ulg"
+    cut.write_bytes(data[: len(data) * 2 // 3])
+    code, text = _estimate(cut, tmp_path / "out.csv")
+    assert code == 0, text
+    assert re.search(rf"warning: {re.escape(str(cut))}: the log is cut inside a message .* readings end there, at t = ",
+                     text), text  # fmt: skip
+    head = tmp_path / "head.ulg"
+    head.write_bytes(data[: _ulog_messages(data, b"D")[0] - 40])  # inside the definitions: no data at all
+    code, text = _estimate(head, tmp_path / "head.csv")
+    assert code == 1 and str(head) in text and not (tmp_path / "head.csv").exists(), text
+
+
+def test_a_dataflash_log_cut_or_overwritten_warns_with_the_samples_lost_and_when(tmp_path):
+    import sim_exports as sim
+    from strapdown.simulate import ImuModel, RandomMotion, sample
+
+    data = sample(RandomMotion(6.0, seed=2), 200.0, gyro="rate", imu=ImuModel.consumer_mems(), seed=2)
+    whole = sim.dataflash(tmp_path / "whole.bin", sim.dataflash_messages(data)).read_bytes()
+    middle = len(whole) // 2
+    (tmp_path / "cut.bin").write_bytes(whole[: middle + 7])
+    garbled = bytearray(whole)
+    garbled[middle : middle + 300] = bytes(range(256)) + bytes(44)
+    (tmp_path / "garbled.bin").write_bytes(garbled)
+    for name, said in (("cut", r"the log is cut inside a message .* readings end there, at t = [\d.]+ s"),
+                       ("garbled", r"bytes that start no message at bytes \d+ to \d+, skipped: about (\d+) gyro "
+                                   r"\(IMU:0\) samples lost \(t = [\d.]+ s to [\d.]+ s\)")):  # fmt: skip
+        log = tmp_path / f"{name}.bin"
+        code, text = _estimate(log, tmp_path / f"{name}.csv")
+        assert code == 0, text
+        found = re.search(rf"warning: {re.escape(str(log))}: {said}", text)
+        assert found, text
+        if name == "garbled":  # the count said is the count missing
+            assert len(data.t) - 1 - _rows(tmp_path / "garbled.csv") == int(found.group(1))
+
+
+def test_a_cut_mcap_is_refused_by_name_and_a_damaged_one_warns_with_what_it_lost(tmp_path):
+    import sim_exports as sim
+
+    data = sim.phone_at_rest(body="FLU", duration=5.0)
+    mcap = next(sim.rosbag(tmp_path / "bag", data, storage="mcap").glob("*.mcap")).read_bytes()
+    (tmp_path / "cut.mcap").write_bytes(mcap[: len(mcap) // 2])
+    code, text = _estimate(tmp_path / "cut.mcap", tmp_path / "cut.csv")
+    assert code == 1 and str(tmp_path / "cut.mcap") in text and not (tmp_path / "cut.csv").exists(), text
+    zeroed = bytearray(mcap)
+    zeroed[len(mcap) // 2 : len(mcap) // 2 + 64] = bytes(64)
+    (tmp_path / "zeroed.mcap").write_bytes(zeroed)
+    code, text = _estimate(tmp_path / "zeroed.mcap", tmp_path / "zeroed.csv")
+    found = re.search(r"/imu/data: (\d+) of the (\d+) messages its index counts could be read, (\d+) lost after", text)
+    if code == 1:  # a reader that refuses the damaged chunk is as good, as long as it names the file
+        assert str(tmp_path / "zeroed.mcap") in text and not (tmp_path / "zeroed.csv").exists(), text
+    else:
+        assert found, text
+        got, counted, lost = map(int, found.groups())
+        assert counted == len(data.t) - 1 and lost == counted - got == counted - _rows(tmp_path / "zeroed.csv")
+
+
+def test_a_zip_bomb_is_refused_before_it_is_unpacked_in_bounded_memory(tmp_path):
+    import sim_exports as sim
+
+    export = sim.sensor_logger(tmp_path / "export", sim.phone_at_rest(duration=3.0))
+    bomb = tmp_path / "bomb.zip"
+    with zipfile.ZipFile(bomb, "w", zipfile.ZIP_DEFLATED) as z:
+        for f in export.iterdir():
+            if f.name != "Gyroscope.csv":
+                z.write(f, f.name)
+        with z.open("Gyroscope.csv", "w", force_zip64=True) as w:  # 1 GiB of digits, about 1 MB deflated
+            w.write((export / "Gyroscope.csv").read_bytes())
+            block = b"0" * (1 << 20)
+            for _ in range(1024):
+                w.write(block)
+    assert bomb.stat().st_size < 8 << 20
+    code, text, peak = _run_measured("estimate", bomb, "-o", tmp_path / "out.csv")
+    assert code == 1 and re.search(rf"{re.escape(str(bomb))}: its files would expand to 10\d\d\.\d MiB, past", text)
+    assert not (tmp_path / "out.csv").exists()
+    assert not list(Path(tempfile.gettempdir()).glob(f"strapdown-unzip-*/{bomb.name}"))
+    assert peak < 0.5e9, f"peak RSS {peak / 1e6:.0f} MB"
+
+
+@pytest.mark.parametrize("as_zip", [False, True])
+def test_a_100_mb_line_without_a_newline_is_refused_in_bounded_memory(tmp_path, as_zip):
+    import sim_exports as sim
+
+    export = sim.sensor_logger(tmp_path / "export", sim.phone_at_rest(duration=3.0))
+    with open(export / "Gyroscope.csv", "ab") as f:
+        block = b"1" * (1 << 20)
+        for _ in range(100):
+            f.write(block)
+    given = Path(shutil.make_archive(str(export), "zip", export)) if as_zip else export
+    code, text, peak = _run_measured("estimate", given, "-o", tmp_path / "out.csv")
+    name = f"{given}: Gyroscope.csv" if as_zip else f"{export / 'Gyroscope.csv'}"
+    assert code == 1 and re.search(rf"{re.escape(name)}: line \d+ is longer than 16 MiB", text), text
+    assert not (tmp_path / "out.csv").exists()
+    assert peak < 0.5e9, f"peak RSS {peak / 1e6:.0f} MB"
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".mat"])
+def test_zeroed_4_kib_blocks_in_mat_and_hdf5_files_are_warned_with_count_and_span(tmp_path, suffix):
+    from strapdown.io import write_table
+
+    rng = np.random.default_rng(3)
+    n = 20_000
+    cols = {"t": np.arange(n) * 0.01}
+    for axis, g, a in zip("xyz", (0.01, 0.02, -0.01), (0.3, -0.2, 9.8), strict=True):
+        cols["g" + axis] = g + 0.001 * rng.standard_normal(n)
+        cols["a" + axis] = a + 0.01 * rng.standard_normal(n)
+    whole = write_table(tmp_path / f"whole{suffix}", cols).read_bytes()
+    data = bytearray(whole)
+    start = whole.find(cols["az"][:4].astype("<f8").tobytes())  # the az column, stored as it is
+    block = (start // 4096 + 3) * 4096  # a 4 KiB page inside it: 512 values of az
+    data[block : block + 4096] = bytes(4096)
+    first = (block - start + 7) // 8  # the first whole value zeroed
+    damaged = tmp_path / f"zeroed{suffix}"
+    damaged.write_bytes(data)
+    code, text = _estimate(damaged, tmp_path / "out.csv")
+    assert code == 0, text
+    found = re.search(rf"warning: {re.escape(str(damaged))}: (\d+) rows between t = ([\d.]+) and ([\d.]+) s", text)
+    assert found, text
+    assert int(found.group(1)) == 512 and float(found.group(2)) == pytest.approx(cols["t"][first])
+    code, text = _estimate(tmp_path / f"whole{suffix}", tmp_path / "whole.csv")
+    assert code == 0 and "zeroed block" not in text, text  # the intact file says nothing
+
+
+def test_convert_refuses_a_non_unit_quaternion_and_says_the_nan_rows(tmp_path):
+    from strapdown.io import write_table
+
+    n = 1000
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    q[:, 3] = np.linspace(-0.5, 0.5, n)
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    t = np.arange(n) * 0.01
+    for name, rows, value in (("huge", [200], [1e308, 0, 0, 0]), ("nan", slice(100, 110), np.nan)):
+        bad = q.copy()
+        bad[rows] = value
+        path = write_table(
+            tmp_path / f"{name}.parquet", dict(t=t, **{f"q{c}": bad[:, i] for i, c in enumerate("wxyz")})
+        )
+        out = tmp_path / f"{name}.csv"
+        code, text, _ = _run_measured("convert", path, "--to", "euler", "--degrees", "-o", out)
+        if name == "huge":  # 1e308 is no attitude; taken as the identity it would be a silent wrong answer
+            assert code == 1 and f"{path}: row 200 (qw, qx, qy, qz) holds a quaternion of norm 1e+308" in text, text
+            assert not out.exists()
+        else:
+            assert code == 0 and f"warning: {path}: 10 rows hold NaN (row 100 to row 109)" in text, text
+            from strapdown.io import read_table
+
+            angles = read_table(out)
+            yaw = next(k for k in angles if k.startswith("yaw"))
+            assert np.isnan(angles[yaw][100:110]).all() and not np.isnan(angles[yaw][:100]).any()
+
+
+def test_parquet_errors_name_the_file(tmp_path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    n = 50_000
+    t = np.arange(n) * 0.01
+    qx = np.round(np.sin(t), 2) / np.sqrt(1 + np.round(np.sin(t), 2) ** 2)
+    good = tmp_path / "good.parquet"
+    table = pa.table({"t": t, "qw": np.sqrt(1 - qx**2), "qx": qx, "qy": 0 * t, "qz": 0 * t})
+    pq.write_table(table, good, compression="snappy", use_dictionary=False)
+    data, column = good.read_bytes(), pq.ParquetFile(good).metadata.row_group(0).column(1)
+    bad = tmp_path / "bad.parquet"
+    for at in range(column.data_page_offset, column.data_page_offset + 2000, 8):  # the first bytes pyarrow refuses
+        damaged = bytearray(data)
+        damaged[at : at + 8] = b"\xff" * 8
+        bad.write_bytes(damaged)
+        try:
+            pq.read_table(bad)
+        except Exception:  # whatever pyarrow raises: the point is that ours names the file
+            break
+    else:
+        pytest.fail("no damaged variant that pyarrow refuses")
+    code, text, _ = _run_measured("convert", bad, "--to", "euler", "-o", tmp_path / "out.csv")
+    assert code == 1 and f"{bad}: " in text and "the file is damaged" in text, text
+    none = tmp_path / "none.parquet"
+    pq.write_table(pa.table({"t": t, "a": t}), none)
+    code, text, _ = _run_measured("convert", none, "--to", "euler", "-o", tmp_path / "out.csv")
+    assert code == 1 and f"{none}: no quat columns found" in text, text
+    assert not (tmp_path / "out.csv").exists()

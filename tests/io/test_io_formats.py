@@ -100,15 +100,14 @@ def test_px4_topic_chooses_the_raw_sensor_at_its_own_rate():
 
 def test_px4_a_flipped_accelerometer_is_refused_as_a_sign_error(monkeypatch):
     # the same log with the accelerometer negated, as a driver reporting acceleration instead of specific force
-    from strapdown.io.formats.ulog import UlogSource
+    from strapdown.io.formats import ulog
 
-    original = UlogSource.__init__
+    original = ulog._vector
 
-    def flipped(self, path, topic=None, mag_topic=None):
-        original(self, path, topic, mag_topic)
-        self._columns = {k: (-v if "accelerometer" in k else v) for k, v in self._columns.items()}
+    def flipped(records, stem):
+        return -original(records, stem) if stem == "accelerometer_m_s2" else original(records, stem)
 
-    monkeypatch.setattr(UlogSource, "__init__", flipped)
+    monkeypatch.setattr(ulog, "_vector", flipped)
     log = DATA / "px4" / "sample_logging_tagged_and_default_params.ulg"
     with pytest.raises(ValueError, match=r"reads gravity downward.*sign flipped"):
         ImuFile(log, ImuColumns(max_gap=0), optional=("acc",))

@@ -24,7 +24,7 @@ import numpy as np
 
 from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
 from .formats.multi import kind_of_file
-from .plausibility import check_chunk, probe
+from .plausibility import ZEROED_RUN, check_chunk, probe, zeroed_rows
 from .readers import Source, check_chunk_rows, open_source, require_rows
 from .timebase import check_period, infer_time_unit, origin_of
 from .units import (
@@ -412,6 +412,7 @@ class ImuFile:
         # integer times (epoch ns) count from the file's first, in integers: as float64 they would lose 0.2 µs
         relative = self.time.fields if self.time is not None and not self._timestamps else ()
         times = None  # the file's running time check, made by the first chunk's checks
+        zeroed = [0, 0.0, 0.0]  # rows of a zeroed block: count, first and last time
         for row, cols in self.source.chunks(names, chunk_rows, start, stop, relative=relative):
             n = len(next(iter(cols.values()))) if cols else 0
             if self._timestamps:
@@ -422,6 +423,9 @@ class ImuFile:
                 t = (row + np.arange(n)) / self.rate
             raws = {kind: _assemble(cols, pick) for kind, pick in self.picks.items()}
             times = check_chunk(self, cols, raws, t, row, times)  # every check before any product can overflow
+            zero = zeroed_rows(raws)
+            if zero.any():
+                zeroed = [zeroed[0] + int(zero.sum()), zeroed[1] if zeroed[0] else t[zero][0], t[zero][-1]]
             out = ImuChunk(row, t, gyro=None)
             for kind, raw in raws.items():
                 factor = scale(kind, self.units[kind])
@@ -434,6 +438,12 @@ class ImuFile:
                     values = values * scale("acc", self.units["acc"])
                 out.extra[name] = values
             yield out
+        if zeroed[0]:
+            self.source.warnings.append(
+                f"{self.path}: {zeroed[0]} rows between t = {zeroed[1]:.6g} and {zeroed[2]:.6g} s (file time) read "
+                f"exactly 0 on an axis of the accelerometer or magnetometer for {ZEROED_RUN} rows or more in a "
+                "row, which no sensor does: a zeroed block of a damaged file?"
+            )
 
 
 _SI = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}

@@ -15,7 +15,7 @@ import numpy as np
 __all__ = ["place_on_rows"]
 
 
-def place_on_rows(t_rows, t_samples, values) -> np.ndarray:
+def place_on_rows(t_rows, t_samples, values, period: float | None = None) -> np.ndarray:
     """Put samples taken at ``t_samples`` on the rows timed ``t_rows`` (nearest row), NaN rows elsewhere.
 
     Parameters
@@ -26,6 +26,9 @@ def place_on_rows(t_rows, t_samples, values) -> np.ndarray:
         The other sensor's times, increasing, in the same unit.
     values : array_like, shape (m, k)
         Its samples.
+    period : float, optional
+        The gyro's period, beyond which a sample is dropped; by default the median step of ``t_rows`` (given when
+        the rows are one chunk of a longer log, whose period is the whole log's).
 
     Returns
     -------
@@ -41,7 +44,9 @@ def place_on_rows(t_rows, t_samples, values) -> np.ndarray:
     """
     t_rows = np.asarray(t_rows)
     t_samples = np.asarray(t_samples)
-    values = np.asarray(values, dtype=np.float64).reshape(t_samples.shape[0], -1)
+    values = np.asarray(values, dtype=np.float64)
+    if values.ndim != 2:  # (n,) or (n, k): an empty (0, k) block keeps its k, which reshape cannot infer
+        values = values.reshape(t_samples.shape[0], -1)
     out = np.full((t_rows.shape[0], values.shape[1]), np.nan)
     if t_rows.size == 0 or t_samples.size == 0:
         return out
@@ -55,7 +60,8 @@ def place_on_rows(t_rows, t_samples, values) -> np.ndarray:
     d_before = np.abs(t_samples - t_rows[before])
     row = np.where(d_before < d_after, before, after)  # a tie goes to the later row
     dist = np.minimum(d_before, d_after)
-    period = np.median(np.diff(t_rows)) if t_rows.size > 1 else np.inf
+    if period is None:
+        period = np.median(np.diff(t_rows)) if t_rows.size > 1 else np.inf
     inside = dist <= period
     row, dist, values = row[inside], dist[inside], values[inside]
     # nearest first, so that the first occurrence of each row is the sample kept

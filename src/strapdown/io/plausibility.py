@@ -24,6 +24,7 @@ from .units import GRAVITY, UNITS, scale
 
 __all__ = [
     "LIMITS",
+    "ZEROED_RUN",
     "TimeCheck",
     "check_chunk",
     "check_gravity_sign",
@@ -32,6 +33,7 @@ __all__ = [
     "check_plausible",
     "probe",
     "row_norms",
+    "zeroed_rows",
 ]
 
 
@@ -577,3 +579,53 @@ def probe(imu, heads: dict) -> None:
         problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * imu.period, imu.units["gyro"])
         if problem:
             raise ValueError(f"{imu.path}: {problem} (columns {imu.picks['gyro'].label} and {imu.picks['acc'].label})")
+
+
+#: Consecutive rows of exact zeros on one axis that are taken as a zeroed block rather than readings.
+ZEROED_RUN = 64
+
+
+def zeroed_rows(raws: dict, min_run: int = ZEROED_RUN) -> np.ndarray:
+    """Rows inside a run of ``min_run`` or more exact zeros on an axis of the accelerometer or magnetometer.
+
+    No such sensor reads exactly 0.0 for dozens of samples in a row while it reads otherwise elsewhere (its noise
+    is about a count; free fall is never exact to the bit, the Earth's field never zero), but a zeroed block of
+    a damaged file does: 4 KiB of a MAT or HDF5 file is 512 float64 values of one column, or 170 rows of an
+    (n, 3) array.  An axis that is zero on every row of the chunk (a simulated level (0, 0, 9.81)) is taken as
+    it is, and so is the gyro, which a simulated or quantised sensor at rest may read as 0 for long stretches.
+
+    Parameters
+    ----------
+    raws : dict
+        ``{kind: (n, 3) array}`` of one chunk, as read.
+    min_run : int
+        Shortest run of zeros flagged.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.plausibility import zeroed_rows
+    >>> acc = np.tile([0.1, -0.2, 9.8], (200, 1))
+    >>> acc[50:150, 0] = 0.0  # a zeroed stretch of one column
+    >>> hit = zeroed_rows({"gyro": np.zeros((200, 3)), "acc": acc})
+    >>> int(hit.sum()), int(np.argmax(hit))
+    (100, 50)
+    """
+    n = len(next(iter(raws.values()))) if raws else 0
+    hit = np.zeros(n, dtype=bool)
+    for values in (raws.get(k) for k in ("acc", "mag")):
+        if values is None or n < min_run:
+            continue
+        for axis in np.atleast_2d(values.T):
+            zero = axis == 0
+            if zero.all() or np.count_nonzero(zero) < min_run:
+                continue
+            edges = np.flatnonzero(np.diff(np.concatenate(([0], zero.view(np.int8), [0]))))
+            for a, b in zip(edges[::2], edges[1::2], strict=True):
+                if b - a >= min_run:
+                    hit[a:b] = True
+    return hit

@@ -6,6 +6,7 @@ A format module (:mod:`strapdown.io.formats`) subclasses :class:`Source` for fil
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,7 +16,7 @@ import numpy as np
 from .._support.deps import need
 from ._arrow import to_numpy
 
-__all__ = ["MemorySource", "Source", "TimeOrigin", "check_chunk_rows", "require_rows"]
+__all__ = ["MemorySource", "Source", "TimeOrigin", "check_chunk_rows", "damaged", "require_rows"]
 
 
 @dataclass(frozen=True)
@@ -90,6 +91,9 @@ class Source:
         The fields a format knows hold "gyro", "acc", "mag" or "time", used before any detection by name.
     time_in_seconds : bool
         The time field is already in seconds from the first sample (decoded and merged logs).
+    warnings : list of str
+        What went wrong reading the file that a user must hear about, each naming the file (a corrupt stretch of a
+        log skipped, with the samples lost and when); the file commands print them as warnings.
     """
 
     format = ""
@@ -110,6 +114,7 @@ class Source:
         self.upright = False
         self.presets: dict[str, tuple] = {}  # kind -> the fields a format knows hold it (before name detection)
         self.time_in_seconds = False  # the time field is already seconds (decoded logs): no unit to infer
+        self.warnings: list[str] = []
 
     def _origin(self, name: str, first) -> int | None:
         """The first value of a timestamp field in ns since the epoch: one origin per file, whatever the rows read."""
@@ -167,6 +172,35 @@ class Source:
 
     def __exit__(self, *exc):
         self.close()
+
+
+@contextlib.contextmanager
+def damaged(path, what: str):
+    """Name ``path`` in any failure to read ``what`` of it (a reader library's "Corrupt snappy compressed data").
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    what : str
+        What was being read ("rows 0 to 1023").
+
+    Examples
+    --------
+    >>> from strapdown.io.source import damaged
+    >>> with damaged("x.parquet", "rows 0 to 9"):
+    ...     raise OSError("Corrupt snappy compressed data.")
+    Traceback (most recent call last):
+    ValueError: x.parquet: rows 0 to 9 cannot be read (Corrupt snappy compressed data.): the file is damaged
+    """
+    try:
+        yield
+    except ImportError:
+        raise
+    except Exception as exc:  # the libraries raise OSError, ArrowInvalid, KeyError, RuntimeError, ...
+        if str(path) in str(exc):
+            raise
+        raise ValueError(f"{path}: {what} cannot be read ({exc}): the file is damaged") from None
 
 
 def check_chunk_rows(chunk_rows) -> int:

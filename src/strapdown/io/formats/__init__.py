@@ -1,12 +1,13 @@
 """One module per input format; each declares its format (:mod:`strapdown.io.registry` holds them).
 
 Tables: :mod:`.csv`, :mod:`.parquet`, :mod:`.hdf5`, :mod:`.mat`.  Logs and exports: :mod:`.ulog` (PX4),
-:mod:`.rosbag` (ROS 1 and 2), :mod:`.euroc` (ASL/EuRoC/TUM-VI folders), :mod:`.sensorlogger` and
-:mod:`.phyphox` (phone exports, folder or zip); :mod:`.multi` merges several files of one recording.
-Nothing heavy is imported until a file is opened.
+:mod:`.dataflash` (ArduPilot), :mod:`.rosbag` (ROS 1 and 2, standalone MCAP), :mod:`.euroc` (ASL/EuRoC/TUM-VI
+folders), :mod:`.sensorlogger` and :mod:`.phyphox` (phone exports, folder or zip); :mod:`.multi` merges several
+files of one recording.  The logs are read a block or a message at a time and spooled (:mod:`._spool`), never
+whole.  Nothing heavy is imported until a file is opened.
 """
 
-from . import csv, euroc, hdf5, mat, parquet, phyphox, rosbag, sensorlogger, ulog
+from . import csv, dataflash, euroc, hdf5, mat, parquet, phyphox, rosbag, sensorlogger, ulog
 
 #: The formats of these modules, tables first (their suffixes are the common case); the registry adds "files" (several
 #: files of one recording, :mod:`.multi`) after the tables.
@@ -20,4 +21,5 @@ BUILT_IN = (
     rosbag.FORMAT,
     sensorlogger.FORMAT,
     ulog.FORMAT,
+    dataflash.FORMAT,
 )

@@ -26,6 +26,9 @@ __all__ = ["CsvSource", "open_csv"]
 _INTEGER = re.compile(r"^[+-]?\d+$")
 _DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?$")
 _COMMENT_ITEM = re.compile(r"^#\s*([A-Za-z_][\w .-]*?)\s*[:=]\s*(.*)$")
+#: Longest line read, bytes: a header of 100 000 columns fits; a line past it is a damaged file, refused before a
+#: reader would hold it in memory (a 100 MB line without a newline took 2.3 GB).
+MAX_LINE_BYTES = 16 << 20
 
 
 class CsvSource(Source):
@@ -37,12 +40,12 @@ class CsvSource(Source):
         super().__init__(path)
         with open(path, newline="", encoding="utf-8-sig") as f:
             before, first = [], ""  # the blank and comment lines before the first other line
-            for line in f:
+            for line in iter(lambda: self._line(f, len(before) + 1), ""):
                 if line.strip() and not line.startswith("#"):
                     first = line
                     break
                 before.append(line)
-            rest = [f.readline() for _ in range(64)]
+            rest = [self._line(f, len(before) + 2 + i) for i in range(64)]
         marks = [i for i, line in enumerate(before) if line.startswith("#")]
         comments = [before[i] for i in marks]
         if marks and (not first.strip() or self._is_data(first, before[marks[-1]])):
@@ -84,6 +87,13 @@ class CsvSource(Source):
         self._first_values = next(csv.reader(lines[:1], delimiter=self.delimiter), [])
         self.integers = {h for h, v in zip(self.header, self._first_values, strict=False) if _INTEGER.match(v.strip())}
         self._bytes_per_row = max(8, sum(len(s) for s in lines) // max(len(lines), 1))
+
+    def _line(self, f, number: int) -> str:
+        """The next line of a text file, refused when longer than :data:`MAX_LINE_BYTES`."""
+        line = f.readline(MAX_LINE_BYTES + 1)
+        if len(line) > MAX_LINE_BYTES:
+            raise ValueError(f"{self.path}: line {number} is longer than {MAX_LINE_BYTES >> 20} MiB: no CSV line is")
+        return line
 
     def _cells(self, lines):
         for values in csv.reader(lines[:8], delimiter=self.delimiter):
@@ -185,7 +195,7 @@ class CsvSource(Source):
         if self.rows == 0:
             return
         offset = self._header_bytes if start == 0 else self._row_offset(start)
-        block = int(min(max(chunk_rows * self._bytes_per_row, 1 << 16), 1 << 28))
+        block = int(min(max(chunk_rows * self._bytes_per_row, 1 << 16), MAX_LINE_BYTES))
         read = pc.ReadOptions(column_names=self.header, block_size=block)
         parse = pc.ParseOptions(delimiter=self.delimiter)
         types = self._types(names, relative)
@@ -214,12 +224,15 @@ class CsvSource(Source):
     def _explain(self, names, start: int, arrow_message: str, types: dict) -> str:
         """Find the first value that is not a number (Arrow does not say where it is)."""
         index = {n: self._index[n] for n in names}
-        with open(self.path, newline="", encoding="utf-8-sig") as f:
-            rows = csv.reader(f, delimiter=self.delimiter)
-            for _ in range(self._skip):
-                next(rows, None)
-            for row, values in enumerate(rows):
-                if row < start or not values:
+        with open(self.path, "rb") as f:
+            f.seek(self._header_bytes)
+            for row, raw in enumerate(iter(lambda: f.readline(MAX_LINE_BYTES + 1), b"")):
+                if len(raw) > MAX_LINE_BYTES:  # read in bounded pieces: a line without end is never held whole
+                    return f"{self.path}: {self.where(row)} is longer than {MAX_LINE_BYTES >> 20} MiB: no CSV line is"
+                if row < start:
+                    continue
+                values = next(csv.reader([raw.decode("utf-8", errors="replace")], delimiter=self.delimiter), [])
+                if not values:
                     continue
                 if len(values) != len(self.header):
                     return (

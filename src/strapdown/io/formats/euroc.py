@@ -44,7 +44,7 @@ def imu_file(path: Path) -> Path | None:
         candidate = path / rel
         if candidate.is_file():
             with open(candidate, encoding="utf-8-sig", errors="replace") as f:
-                if f.readline().startswith("#timestamp"):
+                if f.readline(1 << 16).startswith("#timestamp"):
                     return candidate
     return None
 

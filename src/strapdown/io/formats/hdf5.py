@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._support.deps import need
-from ..source import Source, _from_origin, check_chunk_rows
+from ..source import Source, _from_origin, check_chunk_rows, damaged
 from .base import Format
 
 __all__ = ["Hdf5Source"]
@@ -101,7 +101,8 @@ class Hdf5Source(Source):
             out = {}
             for name in names:
                 ds, transposed = self._datasets[name]
-                block = ds[:, a:b].T if transposed else ds[a:b]
+                with damaged(self.path, f"rows {a} to {b - 1} of {name!r}"):  # h5py's errors name no file
+                    block = ds[:, a:b].T if transposed else ds[a:b]
                 out[name] = _from_origin(block, origins.get(name))
                 if self.fields[name] == 1:
                     out[name] = out[name].reshape(-1)

@@ -9,6 +9,7 @@ magnetometer samples go to the nearest gyro rows (:mod:`strapdown.io.merge`); th
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import tempfile
@@ -32,8 +33,12 @@ _NAMES = {
     "mag": re.compile(r"magnet|(^|[^a-z])mag|compass", re.IGNORECASE),  # not "Image"
 }
 _PER_S = UNITS["time"]  # s per unit
-#: Largest total size of the files taken out of one zip, bytes (a zip bomb stops here).
-MAX_UNZIPPED_BYTES = 4 << 30
+#: Largest total size of the files taken out of one zip, bytes: a zip bomb (1 GiB from 5 MB) is refused from the
+#: sizes the zip declares, before anything is unpacked, and a zip that lies about them when the bytes pass this.
+#: Well below memory: the files are then read whole (an export of an hour at 100 Hz is some 100 MB).
+MAX_UNZIPPED_BYTES = 512 << 20
+#: Longest first line read from an export's file to recognise it (a header is a few hundred bytes).
+MAX_HEADER_BYTES = 1 << 16
 
 
 def kind_of_file(name: str) -> str | None:
@@ -389,10 +394,19 @@ class Unzipped:
                         f"{path}: its files would expand to {total / 2**20:.1f} MiB, past the "
                         f"{MAX_UNZIPPED_BYTES / 2**20:.0f} MiB read from a zip; unpack it and give the folder"
                     )
+                left = MAX_UNZIPPED_BYTES
                 for info in infos:
                     target = self.folder / Path(info.filename).name
                     with z.open(info) as f, open(target, "wb") as out:
-                        shutil.copyfileobj(f, out)
+                        while block := f.read(min(1 << 20, left + 1)):
+                            left -= len(block)
+                            if left < 0:  # more than its sizes said: a lying zip, stopped here
+                                raise ValueError(
+                                    f"{path}: {info.filename} expands past the "
+                                    f"{MAX_UNZIPPED_BYTES / 2**20:.0f} MiB read from a zip (it declares "
+                                    f"{info.file_size} bytes); unpack it and give the folder"
+                                )
+                            out.write(block)
         except BaseException:
             self.close()
             raise
@@ -418,13 +432,13 @@ def first_line(path: Path, name: str) -> str:
         if found is None:
             return ""
         with open(found, encoding="utf-8-sig", errors="replace") as f:
-            return f.readline()
+            return f.readline(MAX_HEADER_BYTES)
     if zipfile.is_zipfile(path):
         with zipfile.ZipFile(path) as z:
             for info in z.infolist():
                 if Path(info.filename).name == name and not info.is_dir():
                     with z.open(info) as f:
-                        return f.readline(4096).decode("utf-8-sig", errors="replace")
+                        return f.readline(MAX_HEADER_BYTES).decode("utf-8-sig", errors="replace")
     return ""
 
 
@@ -465,5 +479,8 @@ class Export:
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, kind, exc, tb):
         self.close()
+        # a member's error names the temporary folder it was unpacked to: name the zip and the member instead
+        if self._unzipped is not None and isinstance(exc, ValueError) and str(self._folder) in str(exc):
+            raise ValueError(str(exc).replace(f"{self._folder}{os.sep}", f"{self.path}: ")) from None

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._support.deps import need
-from ..source import Source, _arrow_to_numpy, _arrow_width, _window, check_chunk_rows
+from ..source import Source, _arrow_to_numpy, _arrow_width, _window, check_chunk_rows, damaged
 from .base import Format
 
 __all__ = ["ParquetSource"]
@@ -65,11 +65,20 @@ class ParquetSource(Source):
         if not groups:
             return
         first = int(ends[groups[0]] - self._group_rows[groups[0]])
-        batches = self._file.iter_batches(batch_size=chunk_rows, row_groups=groups, columns=names)
-        origins = {n: self._origin(n, self._first(n)) for n in names if n in self._timestamps}
-        origins |= {n: self._int_origin(n, self._first(n)) for n in names if n in relative and n in self.integers}
-        for row, batch in _window(batches, start, stop, first):
-            yield row, {n: _arrow_to_numpy(batch.column(n), origins.get(n)) for n in names}
+        with damaged(self.path, f"the first values of {', '.join(names)}"):
+            batches = self._file.iter_batches(batch_size=chunk_rows, row_groups=groups, columns=names)
+            origins = {n: self._origin(n, self._first(n)) for n in names if n in self._timestamps}
+            origins |= {n: self._int_origin(n, self._first(n)) for n in names if n in relative and n in self.integers}
+        window, row = _window(batches, start, stop, first), start
+        while True:
+            with damaged(self.path, f"the row group holding row {row} ({', '.join(names)})"):
+                item = next(window, None)
+                if item is None:
+                    return
+                row, batch = item
+                cols = {n: _arrow_to_numpy(batch.column(n), origins.get(n)) for n in names}
+            yield row, cols
+            row += batch.num_rows
 
     def close(self):
         """Release the file."""

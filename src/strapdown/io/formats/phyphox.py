@@ -50,7 +50,7 @@ def _start_epoch(time_csv: Path | None) -> float | None:
     if time_csv is None:
         return None
     with open(time_csv, newline="", encoding="utf-8-sig") as f:
-        text = f.read()
+        text = f.read(1 << 20)  # a few lines of events; a larger file is no phyphox time.csv
     delimiter = ";" if text.count(";") > text.count(",") else ","
     rows = list(csv.reader(text.splitlines(), delimiter=delimiter))
     if not rows:

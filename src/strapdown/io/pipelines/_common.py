@@ -263,6 +263,8 @@ class Segments:
 
     def __exit__(self, *exc):
         if exc[0] is None:
+            # what the reader could not read (a corrupt stretch skipped, zeroed rows): said even with -q
+            self.notes[:0] = [f"warning: {w}" for w in getattr(getattr(self.imu, "source", None), "warnings", ())]
             if not self.writers:  # no rows: the reader said so already, but never leave without a file
                 self._writer(0)
             if self.splitter is not None and self.splitter.gaps:

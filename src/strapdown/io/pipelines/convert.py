@@ -34,6 +34,9 @@ _QUAT_NAMES = (
 _QUAT_ARRAYS = ("q", "quat", "quaternion", "quaternions", "opt_quat", "orientation")
 
 
+_NORM_RANGE = (0.5, 2.0)  # quaternion norms taken as attitudes: rounding and hand-typed (1, 0, 0, 1) pass
+
+
 def _angle_unit(fields) -> bool | None:
     """True (degrees) or False (radians) when every field's name ends in ``_deg`` or every one in ``_rad``."""
     ends = {m.group(1).lower() if (m := re.search(r"[_ ](deg|rad)$", f, re.IGNORECASE)) else None for f in fields}
@@ -65,7 +68,9 @@ def _representation_fields(fields: dict, rep: str, angles: Angles, given: str | 
     )
 
 
-def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angles, angles_out: Angles):
+def convert_values(
+    values: np.ndarray, source: str, target: str, angles_in: Angles, angles_out: Angles, *, unit_norm: bool = False
+):
     """Convert an (N, width) array between representations; rows with NaN stay NaN (unknown attitudes).
 
     Parameters
@@ -76,6 +81,9 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
         Keys of :data:`strapdown.io.tables.REPRESENTATIONS`.
     angles_in, angles_out : Angles
         Sequences and units of the input and output.
+    unit_norm : bool
+        Refuse a quaternion whose norm is outside 0.5 .. 2 (the rows of a file, where ``qw = 1e308`` is a damaged
+        value); False: any scale is an attitude (numbers typed on the command line).
 
     Returns
     -------
@@ -101,6 +109,14 @@ def convert_values(values: np.ndarray, source: str, target: str, angles_in: Angl
         zero = np.flatnonzero(ok & ~(np.abs(values) > 0).any(axis=1))
         if zero.size:
             raise RowError(int(zero[0]), "a zero quaternion, which is no attitude")
+    if source == "quat" and unit_norm:
+        # in a file an attitude's quaternion has norm 1; one of norm 1e308 (or 1e-300) is a damaged value, not a
+        # scaling (the norm from the largest component: the sum of squares would overflow)
+        big = np.abs(values).max(axis=1)
+        norm = big * np.sqrt(((values / np.where(big > 0, big, 1.0)[:, None]) ** 2).sum(axis=1))
+        far = np.flatnonzero(ok & ~((norm > _NORM_RANGE[0]) & (norm < _NORM_RANGE[1])))
+        if far.size:
+            raise RowError(int(far[0]), f"a quaternion of norm {norm[far[0]]:.6g}, where an attitude's has norm 1")
     if source in _ANGULAR:
         # beyond about 1e9 turns' worth the angle has no digits left below a turn: no attitude can be read from it
         limit = 360.0 * 1e9 if angles_in.degrees else 2 * np.pi * 1e9
@@ -225,7 +241,10 @@ def convert_file(
     angles_in, angles_out = angles_in or Angles(), angles_out or Angles()
     output = output_path(path, output, "convert", out_format)
     with open_source(path, format) as src:
-        fields = _representation_fields(src.fields, source, angles_in, columns)
+        try:
+            fields = _representation_fields(src.fields, source, angles_in, columns)
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from None
         named = _angle_unit(fields[-1:] if source == "axis_angle" else fields) if source in _ANGULAR else None
         if named is not None and named != angles_in.degrees:
             if not unit_from_names:
@@ -240,17 +259,21 @@ def convert_file(
         tcol = pick_vector(time_column, src.fields, "--time", width=1) if time_column else detect_time(src.fields)
         tname = tcol.fields[0] if tcol and tcol.fields[0] not in fields else None
         wanted = ([tname] if tname else []) + list(fields)
-        done = 0
+        done, unknown = 0, [0, 0, 0]  # NaN rows: count, first, last
         meta = metadata("convert", source=source, target=target)
         with table_writer(output, out_format, meta) as w:
             for row, cols in src.chunks(wanted, chunk_rows):
                 values = cols[fields[0]] if len(fields) == 1 else np.column_stack([cols[f] for f in fields])
                 try:
-                    converted = convert_values(values, source, target, angles_in, angles_out)
+                    converted = convert_values(values, source, target, angles_in, angles_out, unit_norm=True)
                 except RowError as exc:
                     raise ValueError(
                         f"{path}: {src.where(row + exc.row)} ({', '.join(fields)}) holds {exc.problem}"
                     ) from None
+                nan = np.flatnonzero(np.isnan(values).reshape(len(values), -1).any(axis=1))
+                if nan.size:  # an unknown attitude stays unknown, and is said (a damaged file writes them too)
+                    unknown[0] += nan.size
+                    unknown[1:] = [unknown[1] if unknown[0] > nan.size else row + nan[0], row + nan[-1]]
                 table = {tname: cols[tname]} if tname else {}
                 table.update(zip(names_out, converted.T, strict=True))
                 w.write(table)
@@ -258,4 +281,10 @@ def convert_file(
                 if progress is not None:
                     progress(done, src.rows)
             require_rows(path, done)  # inside the writer's block, so that no output appears
-        return Report(Path(path), output, w.rows, time.perf_counter() - t_start, f"{source}: {','.join(fields)}")
+        report = Report(Path(path), output, w.rows, time.perf_counter() - t_start, f"{source}: {','.join(fields)}")
+        if unknown[0]:
+            report.notes.append(
+                f"warning: {path}: {unknown[0]} rows hold NaN ({src.where(unknown[1])} to {src.where(unknown[2])}): "
+                "unknown attitudes, written as NaN"
+            )
+        return report

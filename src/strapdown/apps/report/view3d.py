@@ -112,7 +112,7 @@ def view_spec(frame: str, body: str) -> dict:
         "faces": [list(f) for f, _, _ in _FACES],
         "front": [c for _, c, _ in _FACES],
         "back": [c for _, _, c in _FACES],
-        "display": frame_matrix(frame, "ENU").reshape(-1).tolist(),
+        "display": np.eye(3).reshape(-1).tolist(),
         "body_axes": [
             {"v": (1.5 * eye[i]).tolist(), "color": _AXIS_COLOURS[i], "label": f"{'xyz'[i]} {letters_body[i]}"}
             for i in range(3)
@@ -159,8 +159,10 @@ def scene(spec: dict, q, camera: dict | None = None) -> dict:
     --------
     >>> from strapdown.apps.report.view3d import scene, view_spec
     >>> s = scene(view_spec("ENU", "FLU"), [1.0, 0, 0, 0], {"az": 0.0, "el": 0.0})   # seen from the north
-    >>> s["axes"]["text"][3:], [round(v, 9) + 0.0 for v in s["axes"]["x1"][3:]]    # forward points at the viewer
-    (['x F', 'y L', 'z U'], [0.0, 1.5, 0.0])
+    >>> s["axes"]["text"][3:]                                 # the identity: forward east, left north, up
+    ['x F', 'y L', 'z U']
+    >>> [round(v, 9) + 0.0 for v in s["axes"]["x1"][3:]], [round(v, 9) + 0.0 for v in s["axes"]["y1"][3:]]
+    ([-1.5, 0.0, 0.0], [0.0, 0.0, 1.5])
     """
     camera = CAMERA if camera is None else camera
     c, r, u = _basis(camera)

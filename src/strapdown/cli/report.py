@@ -96,7 +96,7 @@ def command(ctx, paths, output, open_page, quiet, **p):
       strapdown report log.csv --calibration cal.json --allan still.csv
     """
     from ..apps.report import ReportOptions, default_report_path, report_file
-    from ._options import PausedCollection, Progress
+    from ._run import PausedCollection, Progress, say_compiling
 
     target = output or str(default_report_path(one_or_many(paths)))
     writable_file(target, "-o/--output")  # before the work, not after it
@@ -130,6 +130,7 @@ def command(ctx, paths, output, open_page, quiet, **p):
         )
     except (ValueError, OSError, ImportError) as exc:
         raise click.ClickException(str(exc)) from None
+    say_compiling([f"estimator:{n}" for n in names], quiet)
     collector = PausedCollection()
     bar = Progress(quiet, started=collector.resume)
     try:

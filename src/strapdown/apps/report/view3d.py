@@ -112,7 +112,7 @@ def view_spec(frame: str, body: str) -> dict:
         "faces": [list(f) for f, _, _ in _FACES],
         "front": [c for _, c, _ in _FACES],
         "back": [c for _, _, c in _FACES],
-        "display": np.eye(3).reshape(-1).tolist(),
+        "display": frame_matrix(frame, "ENU").reshape(-1).tolist(),
         "body_axes": [
             {"v": (1.5 * eye[i]).tolist(), "color": _AXIS_COLOURS[i], "label": f"{'xyz'[i]} {letters_body[i]}"}
             for i in range(3)

@@ -178,7 +178,9 @@ def test_the_model_is_drawn_where_the_attitude_puts_it():
             s = scene(spec, q, above)
             tips = np.array(spec["vertices"])[[0, 8]]  # nose, right wing tip (body axes)
             turned = Rotation.from_quat(q, scalar_first=True).apply(tips) @ enu[frame].T
-            drawn = {(round(x, 9), round(y, 9)) for xs, ys in zip(s["model"]["xs"], s["model"]["ys"]) for x, y in zip(xs, ys)}
+            drawn = {
+                (round(x, 9), round(y, 9)) for xs, ys in zip(s["model"]["xs"], s["model"]["ys"]) for x, y in zip(xs, ys)
+            }
             for e, n_, _ in turned:
                 assert (round(e, 9), round(n_, 9)) in drawn
     # level and facing north in NED: the nose is north, the right wing east, body z down

@@ -190,4 +190,13 @@ class TimePlots:
             lane = FLAG_COLOURS[name][0]
             src = ColumnDataSource({"y": [lane] * a.size, "left": a.astype(np.float32), "right": b.astype(np.float32)})
             f.hbar(y="y", left="left", right="right", height=0.7, source=src, color=FLAG_COLOURS[name][1])
+        if not names:  # said in the lane, so that an empty figure never looks like one that failed to draw
+            middle = (self.x_range.start + self.x_range.end) / 2
+            f.text(
+                x=[middle],
+                y=["none set"],
+                text=["no flag set and no gap over the recording"],
+                text_align="center",
+                text_baseline="middle",
+            )
         return f

@@ -23,7 +23,7 @@ import numpy as np
 __all__ = ["CAMERA", "scene", "script", "view_spec"]
 
 #: The first camera: from behind the vehicle's left and above (azimuth from north toward east, elevation), radians.
-CAMERA = {"az": np.radians(205.0), "el": np.radians(22.0)}
+CAMERA = {"az": float(np.radians(205.0)), "el": float(np.radians(22.0))}  # plain floats: their repr is JS
 
 # The model in FRD: a fuselage (a double pyramid on a square ring), wings, tailplane and fin; each plate is one
 # polygon whose first three vertices turn counter-clockwise seen from above (its normal points up, -D).

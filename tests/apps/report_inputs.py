@@ -35,7 +35,6 @@ def show_log(folder: Path, duration: float | None = None) -> Path:
 def phone_export(folder: Path, duration: float = 60.0) -> Path:
     """An Android Sensor Logger export of a phone turned by hand (simulated: RFU axes, ENU, magnetometer at 50 Hz)."""
     from sim_exports import sensor_logger
-
     from strapdown.simulate import ImuModel, RandomMotion, sample
 
     data = sample(

@@ -20,8 +20,8 @@ pytest.importorskip("bokeh")
 if not have_chromium():
     pytest.skip("no Chromium at /usr/bin/chromium, or no Playwright for Python", allow_module_level=True)
 
-from strapdown.apps.report import report_file  # noqa: E402
-from strapdown.apps.report.view3d import CAMERA, scene, view_spec  # noqa: E402
+from strapdown.apps.report import report_file
+from strapdown.apps.report.view3d import CAMERA, scene, view_spec
 
 # The page's models by type or tag, and each figure's painted pixels with and without its data (the figure's
 # own export, so that a figure of a hidden tab is painted too).
@@ -217,7 +217,7 @@ def test_a_screenshot_is_not_blank_and_shows_the_library_s_numbers(pages, contex
     main = result.recording.runs
     if result.recording.reference is not None:
         assert shown == [f"{r.rmse['total']:.3f}" for r in main]
-    bias = [s for s in page.locator("td[data-bias='1']").all_inner_texts() if s][0]
+    bias = next(s for s in page.locator("td[data-bias='1']").all_inner_texts() if s)
     assert bias.startswith(f"{np.degrees(main[0].bias[-1, 0]):.4f}")
     assert page.problems == []
     page.close()

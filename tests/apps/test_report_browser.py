@@ -150,8 +150,12 @@ def test_the_slider_turns_the_model_as_the_library_does_and_moves_every_cursor(p
             np.testing.assert_allclose(a, b, rtol=0, atol=1e-9)
     assert drawn["xs"] != model0["xs"]
     assert view.screenshot() != before  # and the picture changed
-    readout = page.get_by_text(f"t = {frames['t'][k]:.3f} s", exact=True)  # the readout, as drawn
-    assert readout.count() == 1 and readout.is_visible()
+    # the readout in the view: that instant, and its angles as the library's as_euler gives them
+    from strapdown.rotations.euler import as_euler
+
+    yaw, pitch, roll = as_euler(rec.main.q[row], "ZYX", degrees=True)
+    readout = page.evaluate("__sd.models().find((m) => m.name === 'view-readout').text")
+    assert readout == f"t = {frames['t'][k]:.3f} s   yaw {yaw:.1f}°, pitch {pitch:.1f}°, roll {roll:.1f}°"
     assert page.problems == []
     page.close()
 

@@ -100,7 +100,9 @@ class TimePlots:
         f.xaxis.axis_label = "t (s)"
         f.min_border_left = 70
         f.toolbar.logo = None
-        span = Span(location=float(self.t[0]), dimension="height", line_color="#222222", line_dash="dashed")
+        span = Span(
+            location=float(self.t[0]), dimension="height", line_color="#222222", line_dash="dashed", level="overlay"
+        )
         span.tags = ["cursor"]
         f.add_layout(span)
         self.spans.append(span)

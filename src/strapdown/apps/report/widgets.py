@@ -42,17 +42,17 @@ def _frames(t: np.ndarray, q: np.ndarray, frames: int) -> dict:
     return {name: np.asarray(v, dtype=np.float64) for name, v in cols.items()}
 
 
-def _readout(frames: dict, k: int, frame: str, body: str) -> str:
-    return (
-        f"<b>t = {frames['t'][k]:.3f} s</b> &nbsp; yaw {frames['yaw'][k]:.1f}°, pitch {frames['pitch'][k]:.1f}°, "
-        f"roll {frames['roll'][k]:.1f}° <span style='color:#777'>({body} in {frame}, ZYX)</span>"
-    )
+def _readout(frames: dict, k: int) -> str:
+    angles = f"yaw {frames['yaw'][k]:.1f}°, pitch {frames['pitch'][k]:.1f}°, roll {frames['roll'][k]:.1f}°"
+    return f"t = {frames['t'][k]:.3f} s   {angles}"
 
 
+# The readout is a label drawn in the view's own canvas, not an HTML block: a block's new text makes Bokeh lay
+# the whole page out again, which took most of a slider step's time (benchmarks/bench_report.py).
 _READOUT_JS = """
 const d = frames.data;
-readout.text = `<b>t = ${d.t[k].toFixed(3)} s</b> &nbsp; yaw ${d.yaw[k].toFixed(1)}°, pitch ${d.pitch[k].toFixed(1)}°, `
-  + `roll ${d.roll[k].toFixed(1)}° <span style='color:#777'>(${labels})</span>`;
+readout.text = `t = ${d.t[k].toFixed(3)} s   yaw ${d.yaw[k].toFixed(1)}°, pitch ${d.pitch[k].toFixed(1)}°, `
+  + `roll ${d.roll[k].toFixed(1)}°`;
 """
 
 
@@ -78,7 +78,7 @@ def view_panel(rec, run, slider, spans: list, frames: int):
         The panel (figure, readout, slider, play button).
     """
     from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, PanTool, Range1d, Toggle
+    from bokeh.models import ColumnDataSource, CustomJS, Label, PanTool, Range1d, Toggle
     from bokeh.plotting import figure
 
     spec = view_spec(rec.axes.frame, rec.axes.body)
@@ -99,7 +99,7 @@ def view_panel(rec, run, slider, spans: list, frames: int):
         y_range=Range1d(*bounds, bounds=bounds),
         tools=[PanTool()],
         toolbar_location=None,
-        title=f"{run.name}: {rec.axes.body} body in {rec.axes.frame} (drag to turn)",
+        title=f"{run.name}: {rec.axes.body} body in {rec.axes.frame}, angles ZYX (drag to turn)",
         name="view3d",
     )
     f.axis.visible = False
@@ -109,11 +109,14 @@ def view_panel(rec, run, slider, spans: list, frames: int):
     f.patches("xs", "ys", source=model, fill_color="color", line_color="#2b2f36", line_width=0.6)
     f.segment("x0", "y0", "x1", "y1", source=axes, line_color="color", line_width=2.5)
     f.text("tx", "ty", text="text", source=axes, text_color="color", text_font_size="12px", text_align="center")
-    labels = f"{rec.axes.body} in {rec.axes.frame}, ZYX"
-    readout = Div(text=_readout(table, 0, rec.axes.frame, rec.axes.body), name="view-readout")
+    readout = Label(
+        x=6, y=6, x_units="screen", y_units="screen", text=_readout(table, 0), name="view-readout", level="overlay"
+    )
+    readout.update(text_font_size="12px", text_color="#222222", text_font_style="bold")
+    f.add_layout(readout)
     sources = {"model": model, "axes": axes, "ring": ring}
     state = f"const cam = (window.__sdCam = window.__sdCam || {{az: {CAMERA['az']!r}, el: {CAMERA['el']!r}}});\n"
-    args = {"spec": spec, "frames": frames_src, "readout": readout, "labels": labels, **sources}
+    args = {"spec": spec, "frames": frames_src, "readout": readout, **sources}
     draw = "const k = SD.draw(spec, {model, axes, ring}, frames, slider.value, cam);\n" + _READOUT_JS
     slider.js_on_change(
         "value",
@@ -150,4 +153,4 @@ if (cb_obj.active) {
 """,
         ),
     )
-    return column(f, readout, row(play, slider, sizing_mode="stretch_width"), width=460)
+    return column(f, row(play, slider, sizing_mode="stretch_width"), width=460)

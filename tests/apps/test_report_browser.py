@@ -7,7 +7,8 @@ differs), the slider turns the 3D model exactly as :func:`strapdown.apps.report.
 every cursor, the play button and a click on a time figure move the slider, and a screenshot is not blank.
 
 The tests skip where /usr/bin/chromium or Playwright is missing (``apt-get install chromium``), unless
-``STRAPDOWN_REQUIRE_BROWSER`` is set: ``.ci/run`` installs the browser and sets it, so there they must run.  Playwright drives the system's browser: ``playwright install`` is never needed.
+``STRAPDOWN_REQUIRE_BROWSER`` is set: ``.ci/run`` installs the browser and sets it, so there they must run.
+Playwright drives the system's browser: ``playwright install`` is never needed.
 """
 
 import io

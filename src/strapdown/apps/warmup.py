@@ -1,8 +1,8 @@
 """Compile strapdown's numba kernels now instead of at their first call: ``python -m strapdown.apps.warmup``.
 
 numba compiles each kernel lazily, for the argument types of its first call, and caches the machine code on
-disk (``cache=True``; in one folder per version of the kernels, see :mod:`strapdown._support.kernel_cache`).  The first call of
-a function after an install therefore pays the compilation (about a second per kernel, several for the
+disk (``cache=True``; in one folder per version of the kernels, see :mod:`strapdown._support.kernel_cache`).
+The first call of a function after an install therefore pays the compilation (about a second per kernel, several for the
 parallel scan; docs/guide/performance.md has the measured figures) and every later process only loads the
 cache.  Running this module once after installing moves that cost to the install: it calls the common entry
 points on a few samples in float64 and float32, so that every kernel they use is compiled and cached.  The
@@ -182,9 +182,7 @@ def compiling_notice(needs) -> str | None:
     """
     from .._support import kernel_cache
 
-    missing = [
-        FIRST_RUN[key] for key in needs if not all(kernel_cache.cached(f, k) for f, k in FIRST_RUN[key][1])
-    ]
+    missing = [FIRST_RUN[key] for key in needs if not all(kernel_cache.cached(f, k) for f, k in FIRST_RUN[key][1])]
     if not missing:
         return None
     names = " and ".join(what for what, _, _ in missing)

@@ -1,9 +1,9 @@
 """The ``strapdown`` command line (click, from the ``cli`` extra): one module per command, loaded when it runs.
 
 Library commands: ``demo``, ``compare``, ``evaluate``, and ``warmup`` (compile the kernels once after an
-install).  File commands (the ``io`` extra): ``integrate``, ``estimate``, ``convert``, ``simulate``, ``plot``, and
-``report`` (an interactive HTML page, the ``report`` extra), and ``batch`` to run ``integrate``, ``estimate`` or ``convert`` on many files at once (local cores or a Dask cluster)
-or one integration split across workers.
+install).  File commands (the ``io`` extra): ``integrate``, ``estimate``, ``convert``, ``simulate``, ``plot``,
+``report`` (an interactive HTML page, the ``report`` extra), and ``batch`` to run ``integrate``, ``estimate`` or
+``convert`` on many files at once (local cores or a Dask cluster) or one integration split across workers.
 
 Each command lives in its own module of this package (``strapdown.cli.estimate`` ...), which defines a click
 command named ``command``; :data:`COMMANDS` lists them with their one-line help.  The group imports a command's

@@ -49,6 +49,22 @@ def phone_export(folder: Path, duration: float = 60.0) -> Path:
     return sensor_logger(Path(folder) / "phone", data)
 
 
+def still_log(folder: Path, seconds: float = 900.0, rate: float = 100.0) -> Path:
+    """A gyro at rest: white rate noise (0.3 deg/√h) on a constant bias, with a level accelerometer (ENU/FLU)."""
+    import numpy as np
+
+    from strapdown.io import write_table
+
+    rng = np.random.default_rng(7)
+    n = int(seconds * rate)
+    arw = np.radians(0.3) / 60.0  # rad/√s
+    cols = {"t": np.arange(n) / rate}
+    for i, a in enumerate("xyz"):
+        cols[f"g{a}"] = 1e-3 * (i + 1) + arw * np.sqrt(rate) * rng.standard_normal(n)
+    cols.update(ax=np.zeros(n), ay=np.zeros(n), az=np.full(n, 9.81))
+    return write_table(Path(folder) / "still.parquet", cols, None, {"frame": "ENU", "body": "FLU"})
+
+
 def have_chromium() -> bool:
     if not Path(CHROMIUM).exists():
         return False

@@ -14,7 +14,7 @@ import sys
 
 import numpy as np
 import pytest
-from report_inputs import PX4_LOG, show_log
+from report_inputs import PX4_LOG, show_log, still_log
 
 pytest.importorskip("bokeh")
 
@@ -228,3 +228,19 @@ def test_the_command_refuses_what_it_cannot_do(tmp_path):
     res = run_cli(str(PX4_LOG), "-o", str(tmp_path / "x.txt"))
     assert res.returncode == 1 and "name it .html" in res.stderr
     assert not list(tmp_path.iterdir())
+
+
+def test_the_allan_terms_are_those_of_calibrate_allan_and_find_the_noise(tmp_path):
+    from strapdown.calibrate import allan
+    from strapdown.io import read_imu
+
+    still = still_log(tmp_path)
+    result = report_file(still, tmp_path / "still.html", allan=still, estimators=("mahony",), points=200)
+    shown, _ = page_results(result.output)
+    data = read_imu(still)
+    expected = allan(data.gyro, 100.0)
+    for key in ("arw", "bias_instability", "rate_random_walk"):
+        np.testing.assert_allclose(shown["allan"][key], getattr(expected, key), rtol=1e-12)
+    # the white noise written into the file: 0.3 deg/sqrt(h), found within 10 %
+    np.testing.assert_allclose(shown["allan"]["arw"], np.radians(0.3) / 60.0, rtol=0.1)
+    assert "gyro Allan deviation (900 s at 100 Hz)" in result.output.read_text(encoding="utf-8")  # its figure

@@ -16,7 +16,7 @@ import os
 
 import numpy as np
 import pytest
-from report_inputs import PX4_LOG, browser, have_chromium, open_page, phone_export, show_log, show_tab
+from report_inputs import PX4_LOG, browser, have_chromium, open_page, phone_export, show_log, show_tab, still_log
 
 pytest.importorskip("bokeh")
 if not have_chromium():
@@ -69,7 +69,9 @@ def pages(tmp_path_factory):
     show = show_log(folder, duration=30.0)
     return {
         "px4": report_file(PX4_LOG, folder / "px4.html", points=600, frames=300),
-        "phone": report_file(phone_export(folder, 40.0), folder / "phone.html", fit_mag=True, points=600, frames=300),
+        "phone": report_file(
+            phone_export(folder, 40.0), folder / "phone.html", fit_mag=True, allan=still_log(folder), points=600
+        ),
         "show": report_file(show, folder / "show.html", truth=show, estimators=("attitude", "mahony"), points=600),
     }
 
@@ -96,7 +98,7 @@ def test_the_page_loads_cleanly_and_every_figure_draws_its_data(pages, context, 
     titles = tab_titles(page)
     expected = ["Summary", "Attitude", "Quaternion", "Sensors", "Bias", "Estimators"]
     assert titles[:6] == expected
-    assert ("Calibration" in titles) == (name == "phone")  # the fitted magnetometer on its sphere
+    assert ("Calibration" in titles) == (name == "phone")  # the fitted magnetometer on its sphere, Allan
     for title in titles:  # every tab drawn once, as a click shows it
         show_tab(page, title)
     figures = page.evaluate("__sd.figures()")
@@ -105,7 +107,7 @@ def test_the_page_loads_cleanly_and_every_figure_draws_its_data(pages, context, 
     if name != "px4":
         assert "time:magnetic dip (below the horizontal, by attitude's attitude)" in names
     if name == "phone":
-        assert "mag-sphere" in names, names
+        assert "mag-sphere" in names and "allan" in names, names
     for f in figures:
         assert f["width"] > 100 and f["height"] >= 40, f
         # lanes and bars are few pixels; a line over the whole time axis is more than 0.1 % of its frame

@@ -124,4 +124,8 @@ def results(rec) -> dict:
         "estimators": error_rows(rec),
         "summary": [list(item) for item in rec.summary],
         "gaps": [list(g) for g in rec.gaps],
+        # the Allan analysis' fitted terms, per gyro axis, in the units of strapdown.calibrate.allan (rad, s)
+        "allan": None
+        if rec.allan is None
+        else {k: getattr(rec.allan, k).tolist() for k in ("arw", "bias_instability", "rate_random_walk")},
     }

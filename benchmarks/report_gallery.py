@@ -40,7 +40,7 @@ def main() -> int:
         show = show_log(folder)
         pages = [
             ("px4", report_file(PX4_LOG, folder / "px4.html"), 0.55, "Attitude"),
-            ("phone", report_file(phone_export(folder), folder / "phone.html", fit_mag=True), 0.4, "Sensors"),
+            ("phone", report_file(phone_export(folder, 40.0), folder / "phone.html", fit_mag=True), 0.4, "Sensors"),
             (
                 "show",
                 report_file(show, folder / "show.html", truth=show, estimators=("attitude", "mahony")),

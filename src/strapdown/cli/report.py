@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from ._options import (
@@ -13,7 +15,7 @@ from ._options import (
     param_option,
     parse_params,
     read_options,
-    writable_file,
+    truth_options,
 )
 from .estimate import _calibration_kwargs
 
@@ -43,13 +45,7 @@ def _estimator_list(ctx, param, value):
     help=f"Estimators side by side, the first the main one ({', '.join(estimators())}).",
 )
 @param_option("of the first estimator; angles and rates in degrees with the unit in the name: bias_limit_deg_s=5.")
-@click.option(
-    "--truth",
-    type=click.Path(exists=True, dir_okay=False),
-    help="The true attitude: a simulated log, a qw..qz table, a PX4 log (default: the log's own estimate).",
-)
-@click.option("--truth-frame", metavar="FRAME", help="The truth's reference frame, when its file does not say it.")
-@click.option("--truth-body", metavar="AXES", help="The truth's body axes, when its file does not say them.")
+@truth_options("The true attitude: a simulated log, a qw..qz table, a PX4 log (default: the log's own estimate).")
 @frame_options
 @click.option("--9d", "mode", flag_value="9d", help="Require the magnetometer (default: use it when found).")
 @click.option("--6d", "mode", flag_value="6d", help="Leave the magnetometer out of the estimates.")
@@ -96,10 +92,9 @@ def command(ctx, paths, output, open_page, quiet, **p):
       strapdown report log.csv --calibration cal.json --allan still.csv
     """
     from ..apps.report import ReportOptions, default_report_path, report_file
-    from ._run import PausedCollection, Progress, say_compiling
+    from ._run import run_file, say_compiling
 
     target = output or str(default_report_path(one_or_many(paths)))
-    writable_file(target, "-o/--output")  # before the work, not after it
     on_gap = p.get("on_gap")
     if ctx.get_parameter_source("on_gap") == click.core.ParameterSource.DEFAULT:
         on_gap = "restart"
@@ -131,23 +126,8 @@ def command(ctx, paths, output, open_page, quiet, **p):
     except (ValueError, OSError, ImportError) as exc:
         raise click.ClickException(str(exc)) from None
     say_compiling([f"estimator:{n}" for n in names], quiet)
-    collector = PausedCollection()
-    bar = Progress(quiet, started=collector.resume)
-    try:
-        result = report_file(one_or_many(paths), target, options, progress=bar)
-    except (ValueError, OSError, ImportError, RuntimeError) as exc:
-        bar.close()
-        raise click.ClickException(str(exc)) from None
-    finally:
-        collector.resume()
-    bar.close()
-    if not quiet:
-        for note in result.notes:
-            click.echo(note, err=True)
-        click.echo(
-            f"written: {result.output} ({result.bytes / 1e6:.2f} MB, {result.rows} rows, {result.seconds:.2f} s)"
-        )
+    run_file(report_file, one_or_many(paths), target, {"options": options}, quiet)
     if open_page:
         import webbrowser
 
-        webbrowser.open(result.output.resolve().as_uri())
+        webbrowser.open(Path(target).resolve().as_uri())

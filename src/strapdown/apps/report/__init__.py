@@ -40,6 +40,8 @@ class ReportResult:
         The data behind the page (its numbers: ``recording.runs[k].rmse``).
     notes : list of str
         What the reader and the alignment said.
+    read : str
+        The columns read and their units (as the other file commands report them).
     """
 
     output: Path
@@ -48,6 +50,7 @@ class ReportResult:
     seconds: float
     recording: Recording
     notes: list = field(default_factory=list)
+    read: str = ""
 
 
 def default_report_path(path) -> Path:
@@ -111,4 +114,6 @@ def report_file(path, output=None, options: ReportOptions | None = None, *, prog
     text = page_html(rec, o)
     with atomic_path(output) as tmp:
         tmp.write_text(text, encoding="utf-8")
-    return ReportResult(output, output.stat().st_size, int(rec.t.size), time.perf_counter() - start, rec, rec.notes)
+    seconds = time.perf_counter() - start
+    read = dict(rec.summary).get("Read", "")
+    return ReportResult(output, output.stat().st_size, int(rec.t.size), seconds, rec, rec.notes, read)

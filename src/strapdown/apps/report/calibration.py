@@ -45,26 +45,16 @@ def _project(cloud: dict, camera: dict) -> dict:
 
 def mag_figure(raw: np.ndarray, calibrated: np.ndarray, cal):
     """The raw and calibrated magnetometer clouds on the sphere of the fitted field strength (µT, sensor axes)."""
-    from bokeh.models import ColumnDataSource, CustomJS, PanTool, Range1d
-    from bokeh.plotting import figure
+    from bokeh.models import ColumnDataSource, CustomJS
+
+    from .widgets import orbit_figure
 
     radius = float(cal.quality.get("field_strength") or np.nanmedian(np.linalg.norm(calibrated, axis=1)))
     clouds = {"raw": _cloud(raw), "calibrated": _cloud(calibrated), "sphere": _sphere(radius)}
     sources = {k: ColumnDataSource(_project(v, CAMERA)) for k, v in clouds.items()}
     extent = 1.15 * max(radius, float(np.nanmax(np.abs(raw))) if np.isfinite(raw).any() else radius)
-    bounds = (-extent, extent)
-    f = figure(
-        width=520,
-        height=520,
-        x_range=Range1d(*bounds, bounds=bounds),
-        y_range=Range1d(*bounds, bounds=bounds),
-        tools=[PanTool()],
-        toolbar_location=None,
-        title=f"magnetometer (µT, {cal.frame} axes): raw and calibrated, sphere of {radius:.1f} µT (drag to turn)",
-        name="mag-sphere",
-    )
-    f.axis.visible = False
-    f.grid.visible = False
+    title = f"magnetometer (µT, {cal.frame} axes): raw and calibrated, sphere of {radius:.1f} µT (drag to turn)"
+    f = orbit_figure(520, extent, title, "mag-sphere")
     f.line("x", "y", source=sources["sphere"], line_color="#b0b5bd")
     f.scatter("x", "y", source=sources["raw"], size=3, color="#999999", alpha=0.6, legend_label="raw")
     f.scatter("x", "y", source=sources["calibrated"], size=3, color="#1f77b4", alpha=0.7, legend_label="calibrated")

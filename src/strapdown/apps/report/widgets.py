@@ -11,7 +11,7 @@ import numpy as np
 
 from .view3d import CAMERA, scene, script, view_spec
 
-__all__ = ["make_slider", "view_panel"]
+__all__ = ["make_slider", "orbit_figure", "view_panel"]
 
 _LIMIT = 2.3  # half-width of the view, in model units (the reference axes are 1.9 long)
 
@@ -56,6 +56,27 @@ readout.text = `t = ${d.t[k].toFixed(3)} s   yaw ${d.yaw[k].toFixed(1)}°, pitch
 """
 
 
+def orbit_figure(size: int, limit: float, title: str, name: str):
+    """A square figure with no axes whose drag turns a camera (its range is fixed: the picture never moves)."""
+    from bokeh.models import PanTool, Range1d
+    from bokeh.plotting import figure
+
+    bounds = (-limit, limit)
+    f = figure(
+        width=size,
+        height=size,
+        x_range=Range1d(*bounds, bounds=bounds),
+        y_range=Range1d(*bounds, bounds=bounds),
+        tools=[PanTool()],
+        toolbar_location=None,
+        title=title,
+        name=name,
+    )
+    f.axis.visible = False
+    f.grid.visible = False
+    return f
+
+
 def view_panel(rec, run, slider, spans: list, frames: int):
     """The 3D figure, its readout and the play button, and the slider's callback over them and ``spans``.
 
@@ -78,8 +99,7 @@ def view_panel(rec, run, slider, spans: list, frames: int):
         The panel (figure, readout, slider, play button).
     """
     from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Label, PanTool, Range1d, Toggle
-    from bokeh.plotting import figure
+    from bokeh.models import ColumnDataSource, CustomJS, Label, Toggle
 
     spec = view_spec(rec.axes.frame, rec.axes.body)
     table = _frames(rec.t, run.q, frames)
@@ -91,19 +111,8 @@ def view_panel(rec, run, slider, spans: list, frames: int):
     ring = ColumnDataSource(first["ring"])
     for src, tag in ((model, "view-model"), (axes, "view-axes"), (ring, "view-ring")):
         src.tags = [tag]
-    bounds = (-_LIMIT, _LIMIT)
-    f = figure(
-        width=440,
-        height=440,
-        x_range=Range1d(*bounds, bounds=bounds),  # a drag turns the camera, it never moves the picture
-        y_range=Range1d(*bounds, bounds=bounds),
-        tools=[PanTool()],
-        toolbar_location=None,
-        title=f"{run.name}: {rec.axes.body} body in {rec.axes.frame}, angles ZYX (drag to turn)",
-        name="view3d",
-    )
-    f.axis.visible = False
-    f.grid.visible = False
+    title = f"{run.name}: {rec.axes.body} body in {rec.axes.frame}, angles ZYX (drag to turn)"
+    f = orbit_figure(440, _LIMIT, title, "view3d")
     f.outline_line_color = "#cccccc"
     f.line("x", "y", source=ring, line_color="#c8ccd2", line_dash="dotted")
     f.patches("xs", "ys", source=model, fill_color="color", line_color="#2b2f36", line_width=0.6)

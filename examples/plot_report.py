@@ -33,12 +33,12 @@ for run in result.recording.runs:
 
 # %%
 # Both estimators are far off here, and the page says why: through the loops and turns of the show the
-# accelerometer reads the manoeuvre as much as gravity (on the sensors tab |acc| leaves g for seconds at a time),
+# accelerometer reads the manoeuvre as much as gravity (on the sensors tab ``|acc|`` leaves g for seconds at a time),
 # every filter that takes it for gravity is pulled off (the lesson of ``strapdown demo``), and the flags' lanes
 # show the AttitudeEstimator rejecting the accelerometer and its bias estimate running into its limit.
 #
 # The three pages as a browser shows them: a PX4 log against its own ``vehicle_attitude``, a phone export on the
-# sensors tab (|acc| against g, |mag| and the magnetic dip), and the show above against its truth.
+# sensors tab (``|acc|`` against g, ``|mag|`` and the magnetic dip), and the show above against its truth.
 try:
     here = Path(__file__).resolve().parent
 except NameError:  # run by hand in a console

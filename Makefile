@@ -16,7 +16,7 @@ $(BIN)/python:
 
 # One stamp per extra set, so `make test` after `make demo` installs only what is missing.
 $(VENV)/.stamp-demo: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[cli,io,ulog,rosbag,geomag,plot]'
+	$(BIN)/python -m pip install --quiet -e '.[cli,io,ulog,rosbag,geomag,plot,report]'
 	@touch $@
 
 $(VENV)/.stamp-test: pyproject.toml | $(BIN)/python

@@ -45,6 +45,8 @@ def test_demo_compares_every_method_and_writes_its_files(demo):
     names = sorted(p.name for p in out.iterdir())
     assert names == [
         "aerobatic_show.csv",
+        "aerobatic_show.parquet",
+        "aerobatic_show.report.html",
         "aerobatic_show_angles.png",
         "aerobatic_show_errors.png",
         "aerobatic_show_fusion.png",
@@ -52,8 +54,11 @@ def test_demo_compares_every_method_and_writes_its_files(demo):
         "hammerhead_loop_errors.png",
         "turns_and_rests_fusion.png",
     ]
-    for name in names[1:]:
+    for name in names[3:]:
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # the report: the page a person opens, and where it is said
+    assert f"the interactive report: {(out / 'aerobatic_show.report.html').resolve()}" in stdout
+    assert (out / "aerobatic_show.report.html").read_text(encoding="utf-8").startswith("<!DOCTYPE html>")
     table = np.loadtxt(out / "aerobatic_show.csv", delimiter=",", skiprows=1)
     assert table.shape == (15201, 21)
     # the CSV's error columns are the angles between its true and integrated (fused) quaternions

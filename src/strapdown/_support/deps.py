@@ -18,6 +18,7 @@ _EXTRA = {
     "rosbags.typesys": "rosbag",
     "tqdm": "cli",
     "matplotlib": "plot",
+    "bokeh": "report",
     "distributed": "dask",
 }
 

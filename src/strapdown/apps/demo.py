@@ -11,6 +11,7 @@
 5. A lesson, labelled as one: in coordinated flight the accelerometer does not see gravity, so every filter
    that takes it for gravity (all of them, without the known acceleration) is pulled off.  The CSV's fused
    columns are the AttitudeEstimator's with the known acceleration.
+6. The show written as a log file and its interactive report (``strapdown report``), whose path it prints.
 """
 
 from __future__ import annotations
@@ -556,5 +557,31 @@ def run(out_dir="out", echo=print) -> list[Path]:
     header += ["exact_w", "exact_x", "exact_y", "exact_z", "exact_yaw_deg", "exact_pitch_deg", "exact_roll_deg"]
     header += ["exact_error_deg", "fused_w", "fused_x", "fused_y", "fused_z", "fused_error_deg"]
     written.append(write_csv(out_dir / "aerobatic_show.csv", header, columns))
+    page = show_report(out_dir, echo)
+    written += [page.parent / "aerobatic_show.parquet", page] if page is not None else []
     echo("\nwritten: " + ", ".join(str(p) for p in written))
+    if page is not None:
+        echo(f"\nthe interactive report: {page.resolve()} (open it in a browser; it needs no network)")
     return written
+
+
+def show_report(out_dir, echo=print) -> Path | None:
+    """The aerobatic show as a log file and its interactive page (``strapdown report``): two estimators, the truth.
+
+    Returns the page, or None (said through ``echo``) when the ``report`` or ``io`` extra is not installed.
+    """
+    from ..io import simulate_file
+    from .report import report_file
+
+    out_dir = Path(out_dir)
+    try:
+        log = simulate_file(out_dir / "aerobatic_show.parquet", scenario="aerobatic-show", imu="consumer", rate=100.0)
+        page = report_file(log.output, out_dir / "aerobatic_show.report.html", truth=log.output)
+    except ImportError as exc:
+        echo(f"\nno interactive report: {exc}")
+        return None
+    echo(
+        f"\nThe show as a log ({log.output.name}, {page.rows} rows at 100 Hz) and its report: the attitude estimator "
+        "against the truth, the sensors, the bias and a 3D view; `strapdown report` makes one of any log."
+    )
+    return page.output

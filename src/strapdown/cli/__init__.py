@@ -1,9 +1,9 @@
 """The ``strapdown`` command line (click, from the ``cli`` extra): one module per command, loaded when it runs.
 
 Library commands: ``demo``, ``compare``, ``evaluate``, and ``warmup`` (compile the kernels once after an
-install).  File commands (the ``io`` extra): ``integrate``, ``estimate``, ``convert``, ``simulate``, ``plot``, and
-``batch`` to run ``integrate``, ``estimate`` or ``convert`` on many files at once (local cores or a Dask cluster)
-or one integration split across workers.
+install).  File commands (the ``io`` extra): ``integrate``, ``estimate``, ``convert``, ``simulate``, ``plot``,
+``report`` (an interactive HTML page, the ``report`` extra), and ``batch`` to run ``integrate``, ``estimate`` or
+``convert`` on many files at once (local cores or a Dask cluster) or one integration split across workers.
 
 Each command lives in its own module of this package (``strapdown.cli.estimate`` ...), which defines a click
 command named ``command``; :data:`COMMANDS` lists them with their one-line help.  The group imports a command's
@@ -28,6 +28,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "evaluate": ("strapdown.cli.evaluate", "Run an estimator over the BROAD trials in FOLDER."),
     "integrate": ("strapdown.cli.integrate", "Integrate the gyro readings of INPUT into attitudes."),
     "plot": ("strapdown.cli.plot", "Write PNG figures of an attitude file."),
+    "report": ("strapdown.cli.report", "Write an interactive HTML report of INPUT: plots, 3D view, errors."),
     "simulate": ("strapdown.cli.simulate", "Write a simulated IMU log to OUTPUT."),
     "warmup": ("strapdown.cli.warmup", "Compile the numba kernels once after an install."),
 }
@@ -40,6 +41,7 @@ Examples:
   strapdown convert --from euler --seq ZYX --degrees 10 20 30 --to quat
   strapdown simulate sim.parquet --scenario aerobatic-show --imu consumer
   strapdown plot att.parquet --truth sim.parquet
+  strapdown report flight.ulg -o flight.html --open
   strapdown batch 'logs/**/*.parquet' estimate -e mahony --out results/
   strapdown demo
   strapdown compare --scenario hammerhead-loop

@@ -240,6 +240,22 @@ def inputs_argument():
     return click.argument("paths", metavar="INPUT...", nargs=-1, required=True, type=click.Path(exists=True))
 
 
+def truth_options(truth_help: str):
+    """--truth FILE, --truth-frame and --truth-body: a file with the true attitude, and its frames if it lacks them."""
+    import click
+
+    def decorate(f):
+        f = click.option(
+            "--truth-body", metavar="AXES", help="The truth's body axes, when its file does not say them."
+        )(f)
+        f = click.option(
+            "--truth-frame", metavar="FRAME", help="The truth's reference frame, when its file does not say it."
+        )(f)
+        return click.option("--truth", type=click.Path(exists=True, dir_okay=False), help=truth_help)(f)
+
+    return decorate
+
+
 def one_or_many(paths):
     """The path, or the list of paths of one recording given as several files."""
     return paths[0] if len(paths) == 1 else list(paths)

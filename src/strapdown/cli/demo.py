@@ -13,7 +13,8 @@ def command(out):
     """Print the worked examples and write plots and a CSV to OUT.
 
     Gajda's algorithm on a 360 deg roll, his conclusions tested on a hammerhead + loop, and an aerobatic
-    show flown with a consumer MEMS IMU and integrated by every method.
+    show flown with a consumer MEMS IMU and integrated by every method, then fused; the show as a log file
+    and its interactive report (an HTML page), whose path it prints last.
 
     \b
     Examples:

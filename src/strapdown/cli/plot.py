@@ -4,18 +4,12 @@ from __future__ import annotations
 
 import click
 
-from ._options import input_argument, writable_folder
+from ._options import input_argument, truth_options, writable_folder
 
 
 @click.command()
 @input_argument()
-@click.option(
-    "--truth",
-    type=click.Path(exists=True, dir_okay=False),
-    help="File with the true attitude: a simulated log, a qw..qz table, a PX4 log (its vehicle_attitude).",
-)
-@click.option("--truth-frame", metavar="FRAME", help="The truth's reference frame, when its file does not say it.")
-@click.option("--truth-body", metavar="AXES", help="The truth's body axes, when its file does not say them.")
+@truth_options("File with the true attitude: a simulated log, a qw..qz table, a PX4 log (its vehicle_attitude).")
 @click.option("--out", type=click.Path(file_okay=False), help="Folder of the figures (default: beside INPUT).")
 @click.option("--euler", "seq", default="ZYX", show_default=True, help="Euler sequence of the angle figure.")
 @click.option("--radians", is_flag=True)

@@ -182,9 +182,7 @@ def compiling_notice(needs) -> str | None:
     """
     from .._support import kernel_cache
 
-    missing = [
-        FIRST_RUN[key] for key in needs if not all(kernel_cache.cached(f, k) for f, k in FIRST_RUN[key][1])
-    ]
+    missing = [FIRST_RUN[key] for key in needs if not all(kernel_cache.cached(f, k) for f, k in FIRST_RUN[key][1])]
     if not missing:
         return None
     names = " and ".join(what for what, _, _ in missing)

@@ -62,14 +62,17 @@ How it works
    The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
    see on a level platform.
 6. Offline: :func:`strapdown.fusion.offline.attitude_offline` (the notes of :mod:`strapdown.fusion.offline`).
-7. Saturation.  A gyro clipped at its range turns the gyro frame by less than the body turned, by an unknown
-   amount, and a low-pass in that frame (step 2) would hold the stale gravity direction for several ``tau_acc``
-   and the heading offset (step 5) its stale value for ``tau_mag``.  Samples with a component pinned at the range
-   (``gyro_range``, or found from the readings: :mod:`strapdown.fusion.saturation`) are flagged FLAG_SATURATED;
-   at the first clipped sample and again at the first one after, the inclination and the heading restart as at
-   the first sample (step 2's plain mean, step 5's mean of the updates; the bias is not learnt meanwhile), so
-   gravity and the field pull the attitude back within seconds instead of time constants.  The bias, scale and
-   everything else are kept.  A clipped accelerometer sample (``acc_range``) is left out, as a missing one.
+7. Saturation.  A gyro clipped at its range turns the gyro frame by less than the body turned, and a low-pass in
+   that frame (step 2) would then hold a stale gravity direction for several ``tau_acc``, the heading offset
+   (step 5) a stale heading for ``tau_mag``.  Components pinned at the range (``gyro_range``, or found from the
+   readings: :mod:`strapdown.fusion.saturation`) are flagged FLAG_SATURATED and replaced by the cubic that
+   continues the readings on either side of the run (the top of the peak the range cut off).  A run longer
+   than ``LONG_CLIP`` (0.5 s) is past bridging: once it has lasted that long, and again at its first
+   unclipped sample, the inclination restarts as at the first sample (step 2's plain mean; the bias is not
+   learnt meanwhile) and the heading's mean restarts when that is over, so that gravity and the field pull the
+   attitude back within seconds instead of time constants.  A clipped accelerometer sample (``acc_range``)
+   is left out, as a missing one.  A chunk boundary inside a clipped run changes its bridge (each chunk holds
+   a run at its ends at the limit).
 
 Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
 Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.
@@ -101,6 +104,7 @@ range (``benchmarks/bench_attitude.py`` prints the RMSE surface over ``tau_acc``
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from itertools import pairwise
 from numbers import Real
 
 import numpy as np
@@ -110,7 +114,7 @@ from .._support.renamed import renamed
 from ..rotations.quaternion import rotate
 from ._base import Estimator, params_of
 from .estimate import FLAG_SATURATED, Estimate, PiecewiseEstimate
-from .saturation import ACC_FLOOR, GYRO_FLOOR, bridged, pinned, restarts, saturated
+from .saturation import ACC_FLOOR, GYRO_FLOOR, bridged, clipped_components, restarts
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude"]
 
@@ -455,32 +459,37 @@ class AttitudeEstimator(Estimator):
 
     def _run(self, gyro, acc, mag, dts, extra_in):
         p = self.params
-        pin = pinned(gyro, p.gyro_range, floor=GYRO_FLOOR)
-        clipped = pin.any(axis=-1)
-        if clipped.any():
+        pin = clipped_components(gyro, p.gyro_range, GYRO_FLOOR)
+        clipped = None if pin is None else pin.any(axis=-1)
+        if pin is not None:
             gyro = bridged(gyro, pin)
-        acc_clipped = saturated(acc, p.acc_range, floor=ACC_FLOOR)
-        if acc_clipped.any():  # a clipped accelerometer sample reads neither gravity nor the specific force
+        acc_pin = clipped_components(acc, p.acc_range, ACC_FLOOR)
+        if acc_pin is not None:  # a clipped accelerometer sample reads neither gravity nor the specific force
             acc = acc.copy()
-            acc[acc_clipped] = np.nan
+            acc[acc_pin.any(axis=-1)] = np.nan
         n = gyro.shape[0]
         # past bridging, the inclination and heading restart (module notes, step 7)
-        cuts, self._state["saturated"] = restarts(clipped, dts, self._state.get("saturated", 0.0))
+        carried = self._state.get("saturated", 0.0)
+        cuts = ()
+        if clipped is not None or carried > 0.0:
+            none = np.zeros(n, dtype=bool)
+            cuts, self._state["saturated"] = restarts(none if clipped is None else clipped, dts, carried)
         if not len(cuts):
             est, squares = self._run_piece(gyro, acc, mag, dts, 0, n)
         else:
             bounds = np.r_[0, cuts, n] if cuts[0] > 0 else np.r_[cuts, n]
             squares = np.zeros(3)
             parts = []
-            for b, e in zip(bounds[:-1], bounds[1:]):
+            for b, e in pairwise(bounds):
                 if b in cuts:
                     self._restart()
                 part, sq = self._run_piece(gyro, acc, mag, dts, int(b), int(e))
                 squares += sq
                 parts.append(part)
             est = _joined(parts, self.natural_frame)
-        if n:
-            est.flags[clipped | acc_clipped] |= np.uint8(FLAG_SATURATED)
+        for mask in (pin, acc_pin):
+            if mask is not None:
+                est.flags[mask.any(axis=-1)] |= np.uint8(FLAG_SATURATED)
         return est, squares
 
     def _restart(self) -> None:
@@ -539,7 +548,7 @@ def _joined(parts: list, frame: str) -> PiecewiseEstimate:
     """One PiecewiseEstimate of consecutive pieces' (their segments' ends shifted to the whole chunk's samples)."""
     offsets = np.cumsum([0] + [len(x) for x in parts[:-1]])
     segs = [x._segments for x in parts]
-    ends = np.concatenate([seg[0] + o for seg, o in zip(segs, offsets)])
+    ends = np.concatenate([seg[0] + o for seg, o in zip(segs, offsets, strict=True)])
     bias = np.concatenate([seg[1] for seg in segs])
     sigma = np.concatenate([seg[2]["bias_sigma"] for seg in segs])
     q = np.concatenate([x.q for x in parts])

@@ -10,9 +10,15 @@ Extremes below ``floor`` are never taken as a range: no sensor's full scale is t
 below the smallest gyro range on offer, 125°/s; 1.5 g below the smallest accelerometer range, 2 g), so a body
 resting or turning slowly on a coarse sensor is not mistaken for a clipped one.
 
-The estimators flag such samples (``FLAG_SATURATED``) and do not trust the gyro while it is clipped
-(:class:`~strapdown.fusion.AttitudeEstimator`, module notes): the attitude is pulled back by gravity and the field
-after the last clipped sample.
+The estimators flag such samples (``FLAG_SATURATED``) and do not take the clipped gyro reading for the rate:
+:func:`bridged` replaces a clipped run by the cubic that continues the readings on either side (the top of the
+peak the range cut off), and after a run too long to bridge (:data:`LONG_CLIP`) the
+:class:`~strapdown.fusion.AttitudeEstimator` restarts its inclination and heading, so that gravity and the field
+pull the attitude back within seconds (its module notes, step 7; :func:`restarts`).  Measured on simulated
+handheld motion with a gyro clipping at 400°/s (tests/fusion/test_saturation.py): 5 s after the flicks, bridging
+leaves the error within 1.5 times the unclipped run's, where restarting after every short run cost more than it
+gave (the restarted mean begins inside the flick's 2 g jolt) and ignoring the clip left 1.3 times the bridged error
+in 9D.
 """
 
 from __future__ import annotations
@@ -35,7 +41,8 @@ def saturated(values, limit: float = 0.0, *, floor: float = GYRO_FLOOR, min_run:
         Readings (NaN rows, no sample, are never saturated).
     limit : float
         The full-scale range in the units of ``values`` when known: a component with ``|v| >= limit (1 - 1e-3)``
-        is clipped (within a thousandth: a quantised range stops an LSB or so short).  0 (the default): found from the readings, runs of ``min_run`` or more consecutive identical
+        is clipped (within a thousandth: a quantised range stops an LSB or so short).  0 (the default): found
+        from the readings, runs of ``min_run`` or more consecutive identical
         readings at an axis's largest or smallest value over ``values``, when that value is ``floor`` or more in
         magnitude.  ``inf``: never.
     floor : float
@@ -68,28 +75,27 @@ def pinned(values, limit: float = 0.0, *, floor: float = GYRO_FLOOR, min_run: in
     v = np.asarray(values, dtype=np.float64)
     if v.ndim != 2 or v.shape[-1] != 3:
         raise ValueError(f"values must have shape (N, 3), got {v.shape}")
+    found = clipped_components(v, limit, floor, min_run)
+    return np.zeros(v.shape, dtype=bool) if found is None else found
+
+
+def clipped_components(v: np.ndarray, limit: float, floor: float, min_run: int = 3) -> np.ndarray | None:
+    """:func:`pinned` of an (N, 3) float64 array, or None when nothing is (the estimators' fast path)."""
     if not limit >= 0:
         raise ValueError(f"limit must be a range >= 0 (0: found from the readings, inf: never), got {limit!r}")
     n = v.shape[0]
-    out = np.zeros((n, 3), dtype=bool)
     if n == 0 or limit == np.inf:
-        return out
+        return None
     if limit > 0:
         with np.errstate(invalid="ignore"):
-            return np.abs(v) >= limit * (1.0 - 1e-3)
+            out = np.abs(v) >= limit * (1.0 - 1e-3)
+        return out if out.any() else None
     if n < min_run:
-        return out
-    # one reduction per side over the whole array first: most recordings never come near a range, and then no
-    # per-axis pass follows
-    with np.errstate(invalid="ignore"):
-        top, bottom = np.fmax.reduce(v, axis=0), np.fmin.reduce(v, axis=0)
-    for axis in range(3):
-        for extreme in (top[axis], bottom[axis]):
-            if not abs(extreme) >= floor:
-                continue
-            at = v[:, axis] == extreme
-            out[:, axis] |= _runs(at, min_run)
-    return out
+        return None
+    from ._saturation_numba import pinned_at_extremes
+
+    out = np.zeros((n, 3), dtype=bool)
+    return out if pinned_at_extremes(np.ascontiguousarray(v), float(floor), int(min_run), out) else None
 
 
 def bridged(values, clipped: np.ndarray) -> np.ndarray:
@@ -107,7 +113,7 @@ def bridged(values, clipped: np.ndarray) -> np.ndarray:
         if not at.any():
             continue
         edges = np.diff(np.concatenate([[0], at.view(np.int8), [0]]))
-        for b, e in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
+        for b, e in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True):
             if b < 2 or e + 1 >= n:
                 continue
             y0, y1 = v[b - 1, axis], v[e, axis]
@@ -119,17 +125,6 @@ def bridged(values, clipped: np.ndarray) -> np.ndarray:
             # never below the limit in magnitude: a reading there was at least that
             v[b:e, axis] = np.where(np.abs(fill) > np.abs(v[b:e, axis]), fill, v[b:e, axis])
     return v
-
-
-def _runs(at: np.ndarray, min_run: int) -> np.ndarray:
-    """``at`` with only its runs of ``min_run`` or more consecutive True kept."""
-    edges = np.diff(np.concatenate([[0], at.view(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    keep = (ends - starts) >= min_run
-    marks = np.zeros(at.shape[0] + 1, dtype=np.int64)
-    np.add.at(marks, starts[keep], 1)
-    np.add.at(marks, ends[keep], -1)
-    return np.cumsum(marks[:-1]) > 0
 
 
 LONG_CLIP = 0.5  # s: a clipped run this long is past bridging; the estimators restart their inclination and heading
@@ -152,7 +147,7 @@ def restarts(clipped: np.ndarray, dts: np.ndarray, carried: float) -> tuple[np.n
     if carried >= LONG_CLIP and not clipped[0]:
         cuts.append(0)
     last = 0.0
-    for b, e in zip(starts, ends):
+    for b, e in zip(starts, ends, strict=True):
         before = carried if b == 0 else 0.0
         seconds = before + np.cumsum(h[b:e])
         if seconds[-1] >= LONG_CLIP:

@@ -63,8 +63,8 @@ def test_flag_column():
 def test_handheld_gyro_clipped_at_400_deg_s(seed):
     """Flagged where clipped; 5 s after the last clipped sample the error is within 1.5x the unclipped run's.
 
-    Online 6D inclination, 9D total, offline 9D total and the TiltEstimator's inclination, RMSE over 4.5-5.5 s after the last flick that has 5.5 s
-    of record after it.
+    Online 6D inclination, 9D total, offline 9D total and the TiltEstimator's inclination, RMSE over 4.5-5.5 s
+    after the last flick that has 5.5 s of record after it.
     """
     clean, clip = handheld(seed, 2000.0), handheld(seed, 400.0)
     pinned = (np.abs(clip.gyro) >= np.abs(clip.gyro).max()).any(axis=1)  # the simulator's clipped samples

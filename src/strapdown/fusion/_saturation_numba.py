@@ -10,8 +10,10 @@ from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache,
 
 @nb.njit(cache=True)
 def pinned_at_extremes(v, floor, min_run, out):
-    """Mark in ``out`` (N, 3) the runs of ``min_run`` or more identical readings at an axis's largest or smallest
-    value over ``v`` (NaN ignored), where that value is ``floor`` or more in magnitude; returns whether any.
+    """Mark the pinned runs in ``out`` (N, 3); returns whether there are any.
+
+    A run: ``min_run`` or more identical readings at an axis's largest or smallest value over ``v`` (NaN
+    ignored), where that value is ``floor`` or more in magnitude.
 
     One pass finds the extremes (numpy's reductions along the short axis cost more than the filters), a second
     runs only where an extreme is large enough to be a range.

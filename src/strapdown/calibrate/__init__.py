@@ -5,6 +5,8 @@
 * :func:`gyroscope`: bias from rests, scale and cross-axis coupling from a reference rate or attitude;
 * :func:`allan`: angle random walk, bias instability and rate random walk read off the Allan curve;
 * :func:`find_rests`: the still intervals of a recording;
+* :func:`noise_model`: the noise of a gyro and accelerometer where the recording is still, and the estimator
+  parameters it sets (:class:`NoiseModel`, also from a calibration file);
 * :func:`declination` and :func:`field`: the Earth's field from position and date (World Magnetic Model,
   the ``geomag`` extra), and :func:`to_true_north` to turn a magnetic heading into a true one.
 
@@ -25,6 +27,7 @@ __getattr__, __dir__, __all__ = exports(
         "_declination": ("GeomagneticField", "declination", "field", "to_true_north"),
         "_gyroscope": ("gyroscope", "rates_from_attitude"),
         "_magnetometer": ("InsufficientMotionError", "magnetometer"),
+        "_noise": ("NoiseModel", "noise_model"),
         "_rests": ("find_rests",),
     },
 )

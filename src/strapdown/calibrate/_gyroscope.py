@@ -156,6 +156,7 @@ def _bias(g, fs, acc, rests, frame, rest_options) -> Calibration:
         "rests": rests.tolist(),
         "samples": len(still),
         "noise": noise.tolist(),
+        "fs": fs,
         "bias_spread": (means.std(axis=0, ddof=1) if len(parts) > 1 else np.zeros(3)).tolist(),
     }
     return Calibration(

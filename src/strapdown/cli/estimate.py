@@ -39,6 +39,7 @@ def kwargs(p: dict) -> dict:
         "columns": columns_spec(p, ((n, v.strip()) for n, v in extra)),
         "out": output_spec(p),
         "chunk_rows": CHUNK_ROWS if p.get("chunk_rows") is None else p["chunk_rows"],
+        "noise": "adapt" if p.get("adapt_noise") else "default",
         **_calibration_kwargs(p),
     }
 
@@ -107,6 +108,12 @@ def _list_params(ctx, param, value):
 @click.option("--lat", type=float, help="Latitude, degrees (--declination auto).")
 @click.option("--lon", type=float, help="Longitude, degrees (--declination auto).")
 @click.option("--date", help="Date, YYYY-MM-DD or decimal year (--declination auto).")
+@click.option(
+    "--adapt-noise",
+    is_flag=True,
+    help="Noise parameters from the sensor: the --calibration's noise figures (calibrate allan/gyro), else the "
+    "rests of the data; written into the metadata.",
+)
 @read_options
 @estimate_output_options
 def command(paths, **p):
@@ -116,7 +123,7 @@ def command(paths, **p):
     folder.  One output row per gyro row: the attitude after that row's sample.  Sensors at lower rates leave
     rows without their sample, which the attitude estimator takes as such.  Output: t (s from the first
     sample), qw..qz (body to frame), Euler angles, bias_* (deg/s), flags and the boolean columns rest,
-    acc_rejected, mag_rejected, inverted, bias_at_limit; the frame, body axes, units and the time origin are
+    acc_rejected, mag_rejected, inverted, bias_at_limit, saturated; the frame, body axes, units and the time origin are
     stored in the file (a CSV: "# key: value" lines above the header).
 
     \b
@@ -130,6 +137,7 @@ def command(paths, **p):
       strapdown estimate chair.csv -e tilt --extra known_acc=cx,cy,cz --acc-unit g
       strapdown estimate -e attitude --list-params
       strapdown estimate log.csv --calibration cal.json --declination auto --lat 52.5 --lon 13.4 --date 2025-06-01
+      strapdown estimate log.csv --calibration allan.json --adapt-noise     # the still recording's noise model
     """
     from ..io import estimate_file
 

@@ -33,12 +33,21 @@ import sys as _sys
 from .._support.moved import install as _install_moved
 from .attitude_estimator import AttitudeEstimator, AttitudeParams, attitude
 from .complementary import Complementary, ComplementaryParams, complementary
-from .estimate import FLAG_ACC_REJECTED, FLAG_BIAS_AT_LIMIT, FLAG_INVERTED, FLAG_MAG_REJECTED, FLAG_REST, Estimate
+from .estimate import (
+    FLAG_ACC_REJECTED,
+    FLAG_BIAS_AT_LIMIT,
+    FLAG_INVERTED,
+    FLAG_MAG_REJECTED,
+    FLAG_REST,
+    FLAG_SATURATED,
+    Estimate,
+)
 from .initial import initial_attitude
 from .madgwick import Madgwick, MadgwickParams, madgwick
 from .mahony import Mahony, MahonyParams, mahony
 from .offline import attitude_offline
 from .registry import ESTIMATORS, EstimatorEntry, make_params
+from .saturation import saturated
 from .tilt import TiltEstimator, TiltParams, tilt, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
 
 # strapdown.fusion.attitude names the function here and, as a module path of release 0.1, the estimator's module
@@ -51,6 +60,7 @@ __all__ = [
     "FLAG_INVERTED",
     "FLAG_MAG_REJECTED",
     "FLAG_REST",
+    "FLAG_SATURATED",
     "AttitudeEstimator",
     "AttitudeParams",
     "Complementary",
@@ -70,6 +80,7 @@ __all__ = [
     "madgwick",
     "mahony",
     "make_params",
+    "saturated",
     "tilt",
     "tilt_from_pitch_roll",
     "tilt_from_quaternion",

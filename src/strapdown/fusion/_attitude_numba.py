@@ -60,7 +60,7 @@ RESTV = 102  # 1: mean squared deviation of the gyro from its rest mean, (rad/s)
 AINIT = 103  # 1: seconds of accelerometer averaged at the start (< 0: the averaging is over)
 ASUM = 104  # 3: the sum of the accelerometer samples in I during that time
 ACNT = 107  # 1: how many
-MAGN = 108  # 1: undisturbed heading updates so far
+MAGN = 108  # 1: undisturbed heading updates so far (-1: waiting for the inclination's restart after a clip)
 GPREV = 109  # 3: the last gyro sample, rad/s (gap_step)
 NOMDT = 112  # 1: the nominal sample interval, s (0: none yet)
 MCONF = 120  # 1: seconds the first field has been consistent (< 0: it is the reference)
@@ -760,8 +760,17 @@ def _block(
         err = (err + math.pi) % (2.0 * math.pi) - math.pi
         # the mean of the updates so far until it averages longer than tau_mag (VQF's fast start): the first
         # field sets the heading at once, also when the estimate started before the magnetometer's first sample
-        s[MAGN] = 1.0 if starting else s[MAGN] + 1.0
-        delta += max(kmag, 1.0 / s[MAGN]) * err
+        # After a clipped gyro (attitude.py, step 7; count -1) the heading waits for the inclination's restart to
+        # end, and then its mean restarts: while the inclination restarts from a few samples in motion, a
+        # heading from it carries its error times tan(dip).
+        m = s[MAGN]
+        if m < 0.0 and starting:
+            gain = 0.0
+        else:
+            m = 1.0 if starting or m < 0.0 else m + 1.0
+            gain = max(kmag, 1.0 / m)
+        s[MAGN] = m
+        delta += gain * err
         delta = (delta + math.pi) % (2.0 * math.pi) - math.pi
         s[DELTA] = delta
     # the vertical bias from the heading offset's rate, once the offset has settled after a disturbance

@@ -62,6 +62,17 @@ How it works
    The rate of δ, regressed like the inclination's, measures the vertical bias, which the accelerometer cannot
    see on a level platform.
 6. Offline: :func:`strapdown.fusion.offline.attitude_offline` (the notes of :mod:`strapdown.fusion.offline`).
+7. Saturation.  A gyro clipped at its range turns the gyro frame by less than the body turned, and a low-pass in
+   that frame (step 2) would then hold a stale gravity direction for several ``tau_acc``, the heading offset
+   (step 5) a stale heading for ``tau_mag``.  Components pinned at the range (``gyro_range``, or found from the
+   readings: :mod:`strapdown.fusion.saturation`) are flagged FLAG_SATURATED and replaced by the cubic that
+   continues the readings on either side of the run (the top of the peak the range cut off).  A run longer
+   than ``LONG_CLIP`` (0.5 s) is past bridging: once it has lasted that long, and again at its first
+   unclipped sample, the inclination restarts as at the first sample (step 2's plain mean; the bias is not
+   learnt meanwhile) and the heading's mean restarts when that is over, so that gravity and the field pull the
+   attitude back within seconds instead of time constants.  A clipped accelerometer sample (``acc_range``)
+   is left out, as a missing one.  A chunk boundary inside a clipped run changes its bridge (each chunk holds
+   a run at its ends at the limit).
 
 Steps 3-5 run at ``update_rate`` on time-averaged blocks, so the cost per sample stays that of steps 1-2.
 Sensors may run at different rates: a NaN row in ``acc`` or ``mag`` means no sample of that sensor then.
@@ -93,6 +104,7 @@ range (``benchmarks/bench_attitude.py`` prints the RMSE surface over ``tau_acc``
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from itertools import pairwise
 from numbers import Real
 
 import numpy as np
@@ -101,7 +113,8 @@ from .._support import validate as _v
 from .._support.renamed import renamed
 from ..rotations.quaternion import rotate
 from ._base import Estimator, params_of
-from .estimate import Estimate, PiecewiseEstimate
+from .estimate import FLAG_SATURATED, Estimate, PiecewiseEstimate
+from .saturation import ACC_FLOOR, GYRO_FLOOR, bridged, clipped_components, restarts
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude"]
 
@@ -186,6 +199,13 @@ class AttitudeParams:
         Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
         Default 100 (leave-one-group-out on BROAD): with the bias smoothed, the 6D heading drifts only with what
         is left of it, a ramp the local-linear fit follows, so the field can be averaged longer than online.
+    gyro_range : float
+        The gyro's full-scale range, rad/s: a component at it is clipped (module notes, step 7).  Default 0:
+        found from the readings (runs of three identical readings at an axis's extreme of the chunk, 2 rad/s or
+        more: :func:`strapdown.fusion.saturation.saturated`); ``inf`` never.
+    acc_range : float
+        The accelerometer's full-scale range, m/s², likewise (default 0: found from the readings, extremes of
+        1.5 g or more; ``inf`` never).
     """
 
     tau_acc: float = 3.5
@@ -215,6 +235,8 @@ class AttitudeParams:
     update_rate: float = 5.0
     offline_time_factor: float = 1.5
     offline_heading_tau: float = 100.0
+    gyro_range: float = 0.0
+    acc_range: float = 0.0
 
     def __post_init__(self):
         zero_ok = {
@@ -226,10 +248,13 @@ class AttitudeParams:
             "acc_bias_noise",
             "bias_noise_mag",
             "rest_time",
+            "gyro_range",
+            "acc_range",
         }
         for f in fields(self):
             v = getattr(self, f.name)
-            if not isinstance(v, Real) or isinstance(v, (bool, np.bool_)) or not np.isfinite(v):
+            infinite_ok = f.name in ("gyro_range", "acc_range") and v == np.inf  # inf: no saturation detection
+            if not isinstance(v, Real) or isinstance(v, (bool, np.bool_)) or not (np.isfinite(v) or infinite_ok):
                 raise ValueError(f"{f.name} must be a finite number, got {v!r}")
             if v < 0 or (v == 0 and f.name not in zero_ok):
                 raise ValueError(f"{f.name} must be {'non-negative' if f.name in zero_ok else 'positive'}, got {v!r}")
@@ -349,9 +374,16 @@ class AttitudeEstimator(Estimator):
     # state layout, checked when a state is restored (fusion/_base.py, _checked_state): the kernel indexes it
     # without bounds checks
     # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
-    _state_layout = (("q", (4,)), ("covariance", (9, 9)), *((name, (size,)) for name, _, size in _LAYOUT))
+    # and the seconds of a clipped run under way at the chunk's end (step 7)
+    _state_layout = (
+        ("q", (4,)),
+        ("covariance", (9, 9)),
+        ("saturated", ()),
+        *((name, (size,)) for name, _, size in _LAYOUT),
+    )
     _unit_keys = ("q", "q_gyro", "q_correction")
-    _optional_keys = ("gyro_steps_unnormalised",)  # new in this version: a state taken before starts it at 0
+    # new in this version: a state taken before starts them at 0
+    _optional_keys = ("gyro_steps_unnormalised", "saturated")
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
@@ -420,14 +452,65 @@ class AttitudeEstimator(Estimator):
         s[k.ALAST : k.ALAST + 3] = acc[ka]
         s[k.MOLD] = -1.0
         cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3 + [p.acc_bias_sigma_init**2] * 3)
-        state = {"q": q.copy(), "covariance": cov}
+        state = {"q": q.copy(), "covariance": cov, "saturated": 0.0}
         for name, off, size in _LAYOUT:
             state[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
         return state
 
     def _run(self, gyro, acc, mag, dts, extra_in):
+        p = self.params
+        pin = clipped_components(gyro, p.gyro_range, GYRO_FLOOR)
+        clipped = None if pin is None else pin.any(axis=-1)
+        if pin is not None:
+            gyro = bridged(gyro, pin)
+        acc_pin = clipped_components(acc, p.acc_range, ACC_FLOOR)
+        if acc_pin is not None:  # a clipped accelerometer sample reads neither gravity nor the specific force
+            acc = acc.copy()
+            acc[acc_pin.any(axis=-1)] = np.nan
+        n = gyro.shape[0]
+        # past bridging, the inclination and heading restart (module notes, step 7)
+        carried = self._state.get("saturated", 0.0)
+        cuts = ()
+        if clipped is not None or carried > 0.0:
+            none = np.zeros(n, dtype=bool)
+            cuts, self._state["saturated"] = restarts(none if clipped is None else clipped, dts, carried)
+        if not len(cuts):
+            est, squares = self._run_piece(gyro, acc, mag, dts, 0, n)
+        else:
+            bounds = np.r_[0, cuts, n] if cuts[0] > 0 else np.r_[cuts, n]
+            squares = np.zeros(3)
+            parts = []
+            for b, e in pairwise(bounds):
+                if b in cuts:
+                    self._restart()
+                part, sq = self._run_piece(gyro, acc, mag, dts, int(b), int(e))
+                squares += sq
+                parts.append(part)
+            est = _joined(parts, self.natural_frame)
+        for mask in (pin, acc_pin):
+            if mask is not None:
+                est.flags[mask.any(axis=-1)] |= np.uint8(FLAG_SATURATED)
+        return est, squares
+
+    def _restart(self) -> None:
+        """Inclination and heading start afresh, as at the first sample; bias, scale and the rest are kept."""
+        st = self._state
+        for name in ("acc_start_seconds", "acc_start_sum", "acc_start_count", "mag_undisturbed_seconds", "started"):
+            st[name] = np.zeros_like(st[name])
+        st["mag_updates"] = np.full(1, -1.0)  # the heading waits for the inclination's restart, then its mean restarts
+
+    def _run_piece(self, gyro, acc, mag, dts, b, e):
+        """The kernel over samples b..e-1: (its PiecewiseEstimate, the sums of squares of its inputs)."""
         from . import _attitude_numba as k
 
+        if b or e < gyro.shape[0]:
+            # one interval per sample, or compact ones (the first sample's, then every later one's)
+            if len(dts) == gyro.shape[0]:
+                dts = dts[b:e]
+            elif b:
+                dts = dts[1:]
+            gyro, acc = gyro[b:e], acc[b:e]
+            mag = None if mag is None else mag[b:e]
         n = gyro.shape[0]
         st = self._state
         s = np.empty(k.SIZE)
@@ -459,6 +542,18 @@ class AttitudeEstimator(Estimator):
             ends, vals = ends.copy(), vals.copy()
         segments = (ends, vals[0], {"bias_sigma": vals[1]})
         return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
+
+
+def _joined(parts: list, frame: str) -> PiecewiseEstimate:
+    """One PiecewiseEstimate of consecutive pieces' (their segments' ends shifted to the whole chunk's samples)."""
+    offsets = np.cumsum([0] + [len(x) for x in parts[:-1]])
+    segs = [x._segments for x in parts]
+    ends = np.concatenate([seg[0] + o for seg, o in zip(segs, offsets, strict=True)])
+    bias = np.concatenate([seg[1] for seg in segs])
+    sigma = np.concatenate([seg[2]["bias_sigma"] for seg in segs])
+    q = np.concatenate([x.q for x in parts])
+    flags = np.concatenate([x.flags for x in parts])
+    return PiecewiseEstimate(q=q, frame=frame, flags=flags, segments=(ends, bias, {"bias_sigma": sigma}))
 
 
 @renamed(gyr="gyro")

@@ -17,6 +17,7 @@ __all__ = [
     "FLAG_INVERTED",
     "FLAG_MAG_REJECTED",
     "FLAG_REST",
+    "FLAG_SATURATED",
     "Estimate",
     "PiecewiseEstimate",
 ]
@@ -37,6 +38,11 @@ FLAG_INVERTED = 8  # within 1e-6 of upside down: the tilt quaternion chart is si
 FLAG_BIAS_AT_LIMIT = 16  # the gyro bias estimate lies beyond its prior's spread (bias_limit) on some axis
 
 
+# a gyro or accelerometer component is pinned at its range limit (strapdown.fusion.saturation): the gyro is not
+# trusted while clipped, a clipped accelerometer sample is left out
+FLAG_SATURATED = 32
+
+
 @dataclass
 class Estimate:
     """The output of a fusion filter for N samples.
@@ -51,7 +57,7 @@ class Estimate:
         Gyro bias estimate (rad/s, sensor axes), for filters that estimate one.
     flags : numpy.ndarray of uint8, shape (N,), or None
         Bit mask per sample: ``FLAG_REST``, ``FLAG_ACC_REJECTED``, ``FLAG_MAG_REJECTED``, ``FLAG_INVERTED``,
-        ``FLAG_BIAS_AT_LIMIT`` (values 1, 2, 4, 8, 16; defined in one place, this module).
+        ``FLAG_BIAS_AT_LIMIT``, ``FLAG_SATURATED`` (values 1, 2, 4, 8, 16, 32; defined in one place, this module).
     extra : dict
         Filter-specific outputs.
 

@@ -35,6 +35,7 @@ from .attitude_estimator import (
     attitude,  # noqa: F401  (strapdown.fusion.attitude of release 0.1 is this module)
 )
 from .estimate import FLAG_MAG_REJECTED, Estimate
+from .saturation import GYRO_FLOOR, bridged, clipped_components
 
 __all__ = ["attitude_offline"]
 
@@ -106,7 +107,10 @@ def attitude_offline(
     Estimate
         Attitudes, the smoothed bias (the two passes' estimates weighted by their inverse variances) with its
         standard deviation (``extra["bias_sigma"]``, the passes taken as independent), and flags: rest, missing
-        accelerometer and bias at the limit from the forward pass, magnetic disturbance from either.
+        accelerometer, saturation and bias at the limit from the forward pass, magnetic disturbance from either.
+        A clipped gyro is bridged as online (:mod:`strapdown.fusion.saturation`); after a run too long to
+        bridge, the smoother does not restart (its zero-phase low-pass spreads the turn the gyro lost over
+        ``tau_acc`` on both sides).
 
     Examples
     --------
@@ -149,7 +153,9 @@ def attitude_offline(
     # 2. the inclination: the gyro frame of the gyro corrected by the smoothed bias and scale (and the accelerometer
     # by the passes' accelerometer bias, zero unless modelled), corrected by the accelerometer in that frame
     # low-passed forward and backward in time (zero phase: _offline_numba.py)
-    corrected = g - bias - scale * g
+    pin = clipped_components(g, p.gyro_range, GYRO_FLOOR)  # the passes bridged the clipped gyro; so does this frame
+    gb = g if pin is None else bridged(g, pin)
+    corrected = gb - bias - scale * gb
     a6 = np.ascontiguousarray(a - 0.5 * (first.acc_bias + back.acc_bias))
     n = g.shape[0]
     dts = np.zeros(n)  # the interval ending at each sample; the first attitude is the one at the first sample

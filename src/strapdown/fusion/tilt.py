@@ -74,7 +74,8 @@ from ..rotations.euler import from_euler
 from ..rotations.quaternion import rotate
 from ..rotations.tilt import INVERTED_TOL, tilt_from_pitch_roll, tilt_from_quaternion, tilt_from_up, tilt_rates
 from ._base import GRAVITY, Estimator, float32_if, nonnegative
-from .estimate import Estimate
+from .estimate import FLAG_SATURATED, Estimate
+from .saturation import GYRO_FLOOR, bridged, clipped_components
 
 __all__ = [
     "TiltEstimator",
@@ -141,6 +142,10 @@ class TiltParams:
     acc_gate : float
         Leave the tilt sensor out of the low-pass filter when its magnitude differs from g by more than this,
         m/s² (a gate against shocks); inf keeps every sample.  Default inf.
+    gyro_range : float
+        The gyro's full-scale range, rad/s: components at it are flagged ``FLAG_SATURATED`` and bridged by the
+        cubic that continues the readings on either side (:mod:`strapdown.fusion.saturation`).  Default 0:
+        found from the readings; ``inf``: never.
     """
 
     tau_acc: float = 3.0
@@ -156,6 +161,7 @@ class TiltParams:
     acc_bias_sigma: float = 0.1
     scale_sigma_init: float = 0.01
     scale_noise: float = 1e-5
+    gyro_range: float = 0.0
 
     def __post_init__(self):
         positive = (
@@ -174,6 +180,8 @@ class TiltParams:
                 raise ValueError(f"{name} must be positive, got {v!r}")
         nonnegative(self, ("tau_bias", "rest_time"), "number of seconds")
         nonnegative(self, ("acc_bias_sigma", "scale_sigma_init", "scale_noise"), "number")
+        if not self.gyro_range >= 0:  # inf allowed: no detection
+            raise ValueError(f"gyro_range must be a range >= 0 (0: found from the readings), got {self.gyro_range!r}")
 
 
 class TiltEstimator(Estimator):
@@ -361,6 +369,9 @@ class TiltEstimator(Estimator):
         bias = np.empty((n, 3))
         flags = np.empty(n, dtype=np.uint8)
         p = self.params
+        pin = clipped_components(gyro, p.gyro_range, GYRO_FLOOR)
+        if pin is not None:
+            gyro = bridged(gyro, pin)
         st = self._state
         cov = st.get("covariance", self._covariance0())
         s = np.concatenate(
@@ -421,6 +432,8 @@ class TiltEstimator(Estimator):
         st["block_seconds"] = float(s[k.BLOCK])
         st["acc_start"] = s[k.START : k.START + 5].copy()
         st["scale"] = s[k.SCALE : k.SCALE + 3].copy()
+        if pin is not None:
+            flags[pin.any(axis=-1)] |= np.uint8(FLAG_SATURATED)
         return Estimate(q=out, frame=self.natural_frame, bias=bias, flags=flags)
 
 

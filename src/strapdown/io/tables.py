@@ -68,6 +68,7 @@ FLAG_COLUMNS = {
     "mag_rejected": "FLAG_MAG_REJECTED",
     "inverted": "FLAG_INVERTED",
     "bias_at_limit": "FLAG_BIAS_AT_LIMIT",
+    "saturated": "FLAG_SATURATED",
 }
 # The bias-at-limit bit when the estimators do not define one: the next free bit after FLAG_INVERTED (8).
 _BIAS_AT_LIMIT = 16
@@ -85,7 +86,7 @@ def flag_bits() -> dict[str, int]:
     --------
     >>> from strapdown.io.tables import flag_bits
     >>> flag_bits()
-    {'rest': 1, 'acc_rejected': 2, 'mag_rejected': 4, 'inverted': 8, 'bias_at_limit': 16}
+    {'rest': 1, 'acc_rejected': 2, 'mag_rejected': 4, 'inverted': 8, 'bias_at_limit': 16, 'saturated': 32}
     """
     from .. import fusion
 
@@ -130,8 +131,8 @@ def attitude_columns(
     >>> list(cols)
     ['t', 'qw', 'qx', 'qy', 'qz', 'yaw_deg', 'pitch_deg', 'roll_deg']
     >>> cols = attitude_columns([0.0, 0.1], np.eye(4)[[0, 0]], flags=np.array([0, 5]))
-    >>> list(cols)[-6:]
-    ['flags', 'rest', 'acc_rejected', 'mag_rejected', 'inverted', 'bias_at_limit']
+    >>> list(cols)[-7:]
+    ['flags', 'rest', 'acc_rejected', 'mag_rejected', 'inverted', 'bias_at_limit', 'saturated']
     >>> cols["rest"], cols["acc_rejected"], cols["mag_rejected"]
     (array([False,  True]), array([False, False]), array([False,  True]))
     """

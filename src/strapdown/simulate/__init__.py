@@ -2,6 +2,7 @@
 
 * :mod:`~strapdown.simulate.trajectories`: constant rotation, coning, random smooth motion, rocking platform;
 * :mod:`~strapdown.simulate.aerobatics`: aerobatic flights chained from figures;
+* :mod:`~strapdown.simulate.handheld`: handheld motion, slow with brief fast flicks and jolts;
 * :mod:`~strapdown.simulate.imu`: datasheet-style sensor error models;
 * :mod:`~strapdown.simulate.sampling`: sampling a trajectory into IMU readings;
 * :mod:`~strapdown.simulate.recorded`: IMU readings for a recorded motion (motion capture) through the C² spline.
@@ -23,6 +24,7 @@ from .aerobatics import (
     spin,
     split_s,
 )
+from .handheld import Handheld
 from .models import ClockModel, ImuModel, TriadModel
 from .recorded import RecordedMotion, sample_recorded
 from .sampling import ImuData, MagneticDisturbance, MagneticField, sample
@@ -34,6 +36,7 @@ __all__ = [
     "Coning",
     "ConstantRotation",
     "Flight",
+    "Handheld",
     "ImuData",
     "ImuModel",
     "MagneticDisturbance",

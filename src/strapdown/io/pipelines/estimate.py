@@ -75,6 +75,12 @@ class EstimateOptions(FileOptions):
     declination : float, optional
         Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
         The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
+    noise : {"default", "adapt"}
+        ``"adapt"``: the estimator's noise parameters from the sensor's noise model
+        (:meth:`strapdown.calibrate.NoiseModel.estimator_params`), taken from the gyro calibration when it holds
+        noise figures (``calibrate allan`` / ``calibrate gyro``), else measured on the rests of the first chunk;
+        the figures and the parameters used go into the metadata (``noise_*``, ``noise_params``).  Parameters
+        given in ``params`` win.  AttitudeEstimator and TiltEstimator only.
 
     The fields of :class:`FileOptions` (``columns``, ``out``, ``frame``, ``body``, ``out_body``, ``on_gap``,
     ``chunk_rows``) apply too; ``columns.extra`` gives the estimator's further inputs (``known_acc``,
@@ -87,6 +93,7 @@ class EstimateOptions(FileOptions):
     q0: object = None
     calibration: object = None
     declination: float | None = None
+    noise: str = "default"
 
 
 def estimate_file(path, output=None, options: EstimateOptions | None = None, *, progress=None, **changes) -> Report:
@@ -170,6 +177,11 @@ class _Estimation:
         self.calibrations = by_sensor(o.calibration)
         self.est = None
         self.warned = False
+        if o.noise not in ("default", "adapt"):
+            raise ValueError(f"noise must be 'default' or 'adapt', got {o.noise!r}")
+        if o.noise == "adapt" and o.estimator not in ("attitude", "tilt"):
+            raise ValueError(f"noise='adapt' sets AttitudeEstimator and TiltEstimator parameters, not {o.estimator}'s")
+        self.noise = None  # the NoiseModel in use, once known
 
     def start(self, imu, path) -> dict:
         """Check the file against the estimator and calibrations; the output's metadata."""
@@ -188,12 +200,33 @@ class _Estimation:
         meta.update(heading_metadata(self.use_mag, o.declination, self.calibrations))
         meta.update(self.axes.metadata())
         meta.update(output_metadata(o.out, bias=self.cls.estimates_bias, flags=self.cls.reports_flags))
+        gyro_cal = self.calibrations.get("gyro")
+        if o.noise == "adapt" and gyro_cal is not None and _has_noise(gyro_cal):
+            from ...calibrate import NoiseModel
+
+            self._adapt(NoiseModel.from_calibration(gyro_cal, fs=imu.rate), meta)
         return meta
+
+    def _adapt(self, model, meta: dict) -> None:
+        """The parameters of a noise model (those given in params win), and both in the metadata."""
+        from collections.abc import Mapping
+        from dataclasses import fields
+
+        self.noise = model
+        p = self.o.params
+        # a whole parameter object given: nothing is adapted; a mapping: its names are not
+        given = set() if p is None else set(p) if isinstance(p, Mapping) else {f.name for f in fields(self.params)}
+        changes = {k: v for k, v in model.estimator_params(self.o.estimator).items() if k not in given}
+        self.params = replace(self.params, **changes)
+        meta.update(model.metadata())
+        meta["noise_params"] = ", ".join(f"{k}={v:.6g}" for k, v in sorted(changes.items())) or "none"
 
     def chunk(self, imu, path, out: Segments, seg: int, chunk) -> dict:
         """The output columns of one chunk of one segment (a new segment starts the estimator afresh)."""
         o, axes = self.o, self.axes
         if seg != out.segment_of_estimator:
+            if o.noise == "adapt" and self.noise is None:
+                self._measure_noise(imu, chunk, out.meta)
             # a new segment starts from its own first sample; q0 is the first segment's only
             self.est = self.cls(self.params, q0=o.q0 if self.est is None else None, frame=axes.frame)
             out.segment_of_estimator = seg
@@ -221,6 +254,19 @@ class _Estimation:
             q = to_true_north(q, o.declination, frame=axes.frame)
         return _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
 
+    def _measure_noise(self, imu, chunk, meta: dict) -> None:
+        """The noise model from the rests of the first chunk (the metadata is written with its first rows)."""
+        from ...calibrate import noise_model
+
+        fs = imu.rate or (1.0 / float(np.median(np.diff(chunk.t))) if len(chunk.t) > 1 else None)
+        gyro, acc, _ = calibrated(self.calibrations, chunk.gyro, chunk.acc, None)
+        model = noise_model(gyro, acc, fs=fs) if fs and acc is not None else None
+        if model is None:
+            self.noise = False
+            meta["noise_source"] = "defaults (no rest in the first chunk)"
+            return
+        self._adapt(model, meta)
+
     def _at_limit(self, e, imu, out: Segments, chunk):
         """Rows whose bias sits at ``bias_limit``; the first one is named once in the notes."""
         if not self.limit or e.bias is None:
@@ -235,6 +281,10 @@ class _Estimation:
             i = int(np.argmax(at_limit))
             out.notes.append(_bias_warning(e.bias[i], self.limit, out.t(chunk)[i], imu.where(chunk.row + i)))
         return at_limit
+
+
+def _has_noise(cal) -> bool:
+    return "arw" in cal.quality or ("noise" in cal.quality and bool(cal.quality.get("fs")))
 
 
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:

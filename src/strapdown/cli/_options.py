@@ -83,8 +83,17 @@ def read_options(f, *, acc: bool = True, mag: bool = True):
         ),
         choice_option(
             "--on-gap",
-            choices=("error", "split", "restart"),
-            help="At a gap over --max-gap: stop; write a file per segment; or start afresh, with a segment column.",
+            choices=("auto", "error", "split", "restart", "bridge"),
+            help="At a gap over --max-gap: bridge the short ones and start afresh after the long ones (auto, each "
+            "with a warning and a gap or segment column); stop; write a file per segment; start afresh after "
+            "every gap; or bridge every gap.",
+        ),
+        click.option(
+            "--bridge",
+            type=click.FloatRange(min=0),
+            metavar="S",
+            help="With --on-gap auto: the longest gap bridged, s (default: from the gyro's noise and bias, about "
+            "2 s for a quiet gyro).",
         ),
         click.option("--no-unit-check", is_flag=True, help="Do not check that magnitudes fit the units."),
         click.option("--topic", metavar="NAME", help="Bag or log topic of the IMU (listed when ambiguous)."),

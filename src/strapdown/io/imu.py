@@ -368,6 +368,23 @@ class ImuFile:
         if len(next(iter(cols.values()))):
             probe(self, {kind: _assemble(cols, pick) for kind, pick in self.picks.items() if kind in _KINDS})
 
+    def head(self, kind: str) -> np.ndarray | None:
+        """The first rows (up to 4096) of a sensor's readings in SI units (rad/s for the gyro), or None."""
+        if kind not in self.picks:
+            return None
+        values = _assemble(self._head(), self.picks[kind]) * scale(kind, self.units[kind])
+        if kind == "gyro" and self.increments:
+            values = values / self.period if self.period else np.full_like(values, np.nan)
+        return values
+
+    def gyro_noise(self) -> float:
+        """The white noise of one gyro sample in the first rows, rad/s (:func:`strapdown.io.conventions.gyro_noise`)."""
+        from .conventions import gyro_noise
+
+        if getattr(self, "_noise", None) is None:
+            self._noise = gyro_noise(self.head("gyro"))
+        return self._noise
+
     def count_rows(self) -> int:
         """Number of rows (a pass over a CSV file)."""
         if self.rows is None:
@@ -377,6 +394,31 @@ class ImuFile:
     def where(self, row: int) -> str:
         """Where a row is, for messages: ``"line 12"`` (CSV) or ``"row 10"``."""
         return self.source.where(row)
+
+    def file_of(self, kind: str):
+        """The file that holds a quantity's readings ("gyro", "acc", "mag", "time"), for messages.
+
+        The input itself, except for several files of one recording, where each sensor names its own file.
+        """
+        pick = self.time if kind == "time" else self.picks.get(kind)
+        located = getattr(self.source, "located", None) or {}
+        field = pick.fields[0] if pick is not None else None
+        return located[field][0] if field in located else self.path
+
+    def locate(self, field: str, row: int) -> tuple:
+        """(file, where) of a field's reading on a row: ``(Accelerometer.csv, "line 7")`` in a merged recording.
+
+        A slower sensor's row of the merged table is its own sample's row in its own file; a row where it has no
+        sample is told by the table's row.
+        """
+        located = getattr(self.source, "located", None) or {}
+        if field not in located:
+            return self.path, self.where(row)
+        path, where, index = located[field]
+        own = row if index is None else int(index[row])
+        if where is None or own < 0:
+            return path, f"row {row} of the merged table"
+        return path, where(own)
 
     def close(self) -> None:
         """Release the file."""

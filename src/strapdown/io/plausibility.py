@@ -441,14 +441,17 @@ def check_finite_rows(imu, cols: dict, row: int, n: int) -> None:
             bad |= b
     if not bad.any():
         return
-    rows = np.flatnonzero(bad)
-    shown = ", ".join(imu.where(row + int(i)).split()[-1] for i in rows[:5])
-    unit = imu.where(row).split()[0] + ("s" if rows.size > 1 else "")
-    more = f" (and {rows.size - 5} more in rows {row}-{row + n - 1})" if rows.size > 5 else ""
     first = culprit[min(culprit)]
+    # the rows of the culprit's own column, in its own file (a merged recording's sensors each have theirs)
+    own = np.flatnonzero(~np.isfinite(cols[first]).reshape(n, -1).all(axis=1) & bad)
+    rows = own if own.size else np.flatnonzero(bad)
+    path, at = imu.locate(first, row + int(rows[0]))
+    shown = ", ".join(imu.locate(first, row + int(i))[1].split()[-1] for i in rows[:5])
+    unit = at.split()[0] + ("s" if rows.size > 1 else "")
+    more = f" (and {rows.size - 5} more in rows {row}-{row + n - 1})" if rows.size > 5 else ""
     what = "NaN or empty values" if np.isnan(np.asarray(cols[first])[rows[0]]).any() else "infinite values"
     raise ValueError(
-        f"{imu.path}: {what} at {unit} {shown}{more}, first in column {first!r}; remove or fill "
+        f"{path}: {what} at {unit} {shown}{more}, first in column {first!r}; remove or fill "
         "those rows (their readings are unknown, and every later attitude depends on them)"
     )
 
@@ -469,7 +472,8 @@ def check_magnitudes(imu, kind: str, raw: np.ndarray, row: int, period: float | 
         i, j, problem = hit
         pick = imu.picks[kind]
         column = pick.fields[j] if len(pick.fields) > 1 else f"{pick.fields[0]}[{j}]"
-        raise ValueError(f"{imu.path}: {imu.where(row + i)}, column {column!r}: {problem}")
+        path, where = imu.locate(pick.fields[min(j, len(pick.fields) - 1)], row + i)
+        raise ValueError(f"{path}: {where}, column {column!r}: {problem}")
 
 
 def check_units(imu, kind: str, raw: np.ndarray, row: int, period: float | None) -> None:
@@ -480,24 +484,36 @@ def check_units(imu, kind: str, raw: np.ndarray, row: int, period: float | None)
         raw = raw[np.isfinite(raw).all(axis=1)]
     problem = check_plausible(kind, raw, imu.units[kind], rate_hz=rate)
     if problem:
-        raise ValueError(f"{imu.path}: {problem} (columns {imu.picks[kind].label}, from {imu.where(row)})")
+        path, where = imu.locate(imu.picks[kind].fields[0], row)
+        raise ValueError(f"{path}: {problem} (columns {imu.picks[kind].label}, from {where})")
 
 
 def _around(imu, t: np.ndarray, prev: float, row: int, i: int) -> tuple[str, float, float]:
     """Where row i of a chunk starting at ``row`` is, the time before it (``prev`` for the first) and its own."""
-    return imu.where(row + i), float(prev if i == 0 else t[i - 1]), float(t[i])
+    return imu.locate(imu.time.fields[0], row + i)[1], float(prev if i == 0 else t[i - 1]), float(t[i])
 
 
 class TimeCheck:
-    """Strictly increasing time and no gap longer than ``max_gap`` nominal periods, across chunks."""
+    """Strictly increasing time and no gap longer than ``max_gap`` nominal periods, across chunks.
+
+    Calling it runs both checks; :func:`check_chunk` runs :meth:`increasing` first and :meth:`gaps` after every
+    check of the readings, so that a file that is wrong in another way is told so before it is told of its gaps.
+    """
 
     def __init__(self, imu):
         self.imu = imu
         self.last: float | None = None
         self.period: float | None = None if imu.rate is None else 1.0 / imu.rate
+        self._steps: np.ndarray | None = None
+        self._prev = None
 
     def __call__(self, t: np.ndarray, row: int) -> None:
         """Check the times ``t`` (s) of the chunk that starts at ``row``, after the chunks before it."""
+        self.increasing(t, row)
+        self.gaps(t, row)
+
+    def increasing(self, t: np.ndarray, row: int) -> None:
+        """Refuse time that does not increase; learn the period from the first chunk."""
         if t.size == 0:
             return
         imu = self.imu
@@ -509,26 +525,33 @@ class TimeCheck:
         if bad.size:
             where, before, at = _around(imu, t, prev, row, int(bad[0]))
             raise ValueError(
-                f"{imu.path}: time ({imu.time.label}) does not increase at {where}: {before!r} -> {at!r}; sort the "
+                f"{imu.file_of('time')}: time ({imu.time.label}) does not increase at {where}: {before!r} -> {at!r}; sort the "
                 "rows, or drop the repeated ones"
             )
         if self.period is None:
             inner = d[np.isfinite(d)]
             if inner.size:
                 self.period = float(np.median(inner))
-        limit = imu.spec.max_gap
-        if limit and self.period:
-            over = np.flatnonzero(np.isfinite(d) & (d > limit * self.period))
-            if over.size:
-                i = int(over[0])
-                where, before, at = _around(imu, t, prev, row, i)
-                raise ValueError(
-                    f"{imu.path}: a gap of {d[i]:.6g} s ({d[i] / self.period:.1f} sample periods of "
-                    f"{self.period:.6g} s) before {where} (time {before!r} -> {at!r}); "
-                    f"at most --max-gap {limit:g} periods are allowed.  Split the file there, or raise --max-gap "
-                    "(0: no check)"
-                )
+        self._steps, self._prev = d, prev
         self.last = float(t[-1])
+
+    def gaps(self, t: np.ndarray, row: int) -> None:
+        """Refuse a step over ``max_gap`` periods in the chunk :meth:`increasing` has just seen."""
+        imu, d = self.imu, self._steps
+        limit = imu.spec.max_gap
+        if d is None or t.size == 0 or not (limit and self.period):
+            return
+        over = np.flatnonzero(np.isfinite(d) & (d > limit * self.period))
+        if over.size:
+            i = int(over[0])
+            where, before, at = _around(imu, t, self._prev, row, i)
+            raise ValueError(
+                f"{imu.file_of('time')}: a gap of {d[i]:.6g} s ({d[i] / self.period:.1f} sample periods of "
+                f"{self.period:.6g} s) before {where} (time {before!r} -> {at!r}); at most --max-gap {limit:g} "
+                "periods are allowed with --on-gap error.  Leave --on-gap out to bridge short gaps and restart "
+                "after long ones, or give --on-gap bridge (carry the attitude across every gap), restart (start "
+                "afresh after each), split (a file per segment); or raise --max-gap (0: no check)"
+            )
 
 
 def check_chunk(imu, cols: dict, raws: dict, t: np.ndarray, row: int, times: TimeCheck | None) -> TimeCheck:
@@ -536,16 +559,18 @@ def check_chunk(imu, cols: dict, raws: dict, t: np.ndarray, row: int, times: Tim
 
     ``cols`` are the chunk's fields as read, ``raws`` the readings of each sensor in the file's units, ``t`` the
     times in seconds and ``times`` the file's running time check (None for the first chunk), which is returned.
+    The gaps come last: every check of the readings runs whatever the gap policy, and before a gap stops a run.
     """
     times = TimeCheck(imu) if times is None else times
     n = t.shape[0]
     check_finite_rows(imu, cols, row, n)
-    times(t, row)
+    times.increasing(t, row)
     for kind, raw in raws.items():
         if kind in _SI_UNIT:
             check_magnitudes(imu, kind, raw, row, times.period)
             if imu.spec.unit_check:
                 check_units(imu, kind, raw, row, times.period)
+    times.gaps(t, row)
     return times
 
 
@@ -570,10 +595,13 @@ def probe(imu, heads: dict) -> None:
     if imu.source.upright and imu.body:
         problem = check_gravity_sign(acc[np.isfinite(acc).all(axis=1)], imu.body)
         if problem:
-            raise ValueError(f"{imu.path}: {problem} (columns {imu.picks['acc'].label})")
+            raise ValueError(f"{imu.file_of('acc')}: {problem} (columns {imu.picks['acc'].label})")
     if not imu.increments and imu.period:
         gyro = heads["gyro"] * scale("gyro", imu.units["gyro"])
         both = np.isfinite(acc).all(axis=1) & np.isfinite(gyro).all(axis=1)
         problem = check_gyro_at_rest(gyro[both], acc[both], gyro.shape[0] * imu.period, imu.units["gyro"])
         if problem:
-            raise ValueError(f"{imu.path}: {problem} (columns {imu.picks['gyro'].label} and {imu.picks['acc'].label})")
+            files = dict.fromkeys(map(str, (imu.file_of("gyro"), imu.file_of("acc"))))
+            raise ValueError(
+                f"{' and '.join(files)}: {problem} (columns {imu.picks['gyro'].label} and {imu.picks['acc'].label})"
+            )

@@ -17,9 +17,11 @@ from ._common import (
     Report,
     Segments,
     culprit,
+    gap_bridge,
     input_paths,
     metadata,
     options_of,
+    read_columns,
     output_path,
     rows_text,
     with_progress,
@@ -111,8 +113,10 @@ def estimate_file(path, output=None, options: EstimateOptions | None = None, *, 
     -----
     Output columns: ``t`` (s from the first sample), ``qw..qz``, Euler angles, ``bias_*`` (the unit in the
     name), ``flags`` (bit mask of :func:`strapdown.io.tables.flag_bits`) and one boolean column per flag:
-    ``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``.  Metadata:
-    :mod:`strapdown.io.conventions`.
+    ``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``, and ``heading_free``: True
+    where no magnetometer sample has set the heading yet (every row of a 6D run; in 9D the rows before the first
+    field, and after a restart until the next).  Under the default ``on_gap`` also ``gap`` and ``segment``
+    (:class:`~strapdown.io.pipelines.FileOptions`).  Metadata: :mod:`strapdown.io.conventions`.
 
     Examples
     --------
@@ -131,11 +135,10 @@ def estimate_file(path, output=None, options: EstimateOptions | None = None, *, 
     o = options_of(EstimateOptions, options, changes, "estimate_file")
     run = _Estimation(o)
     output = output_path(path, output, "estimate", o.out.format)
-    gap_limit = o.columns.max_gap if o.on_gap != "error" else 0
-    columns = replace(o.columns, max_gap=0) if o.on_gap != "error" else o.columns  # gaps are cut here
+    columns = read_columns(o)
     with ImuFile(path, columns, require=run.require, optional=run.optional) as imu:
         meta = run.start(imu, path)
-        out = Segments(imu, output, o.out, gap_limit, o.on_gap, meta)
+        out = Segments(imu, output, o.out, o.columns.max_gap, o.on_gap, meta, gap_bridge(o, imu))
         with out, ReadAhead(imu.chunks(o.chunk_rows)) as chunks:
             for seg, chunk in out.pieces(with_progress(chunks, imu.rows, progress)):
                 out.write(seg, run.chunk(imu, path, out, seg, chunk))
@@ -170,6 +173,7 @@ class _Estimation:
         self.calibrations = by_sensor(o.calibration)
         self.est = None
         self.warned = False
+        self.heading_known = False
 
     def start(self, imu, path) -> dict:
         """Check the file against the estimator and calibrations; the output's metadata."""
@@ -188,6 +192,8 @@ class _Estimation:
         meta.update(heading_metadata(self.use_mag, o.declination, self.calibrations))
         meta.update(self.axes.metadata())
         meta.update(output_metadata(o.out, bias=self.cls.estimates_bias, flags=self.cls.reports_flags))
+        if o.out.flags:
+            meta["heading_free"] = "True where no magnetometer sample has set the heading yet (every row in 6D)"
         return meta
 
     def chunk(self, imu, path, out: Segments, seg: int, chunk) -> dict:
@@ -197,12 +203,13 @@ class _Estimation:
             # a new segment starts from its own first sample; q0 is the first segment's only
             self.est = self.cls(self.params, q0=o.q0 if self.est is None else None, frame=axes.frame)
             out.segment_of_estimator = seg
+            self.heading_known = False  # a restart knows no heading until its first field
         timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
         extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
         gyro, acc, mag = calibrated(self.calibrations, chunk.gyro, chunk.acc, chunk.mag if self.use_mag else None)
         mag = axes.rotate(mag) if self.use_mag else None
         try:
-            e = self.est.update(axes.rotate(gyro), axes.rotate(acc), mag, **timing, **extra)
+            e, free = self._update(axes.rotate(gyro), axes.rotate(acc), mag, timing, extra)
         except ValueError as exc:  # the estimator's own words name its arrays, not the file
             k = getattr(exc, "sample", None)  # strapdown._support.validate.SampleError: one sample of the chunk
             where = rows_text(imu, chunk) if k is None else imu.where(chunk.row + k)
@@ -219,7 +226,47 @@ class _Estimation:
             from ...calibrate import to_true_north
 
             q = to_true_north(q, o.declination, frame=axes.frame)
-        return _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
+        cols = _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
+        if o.out.flags:
+            cols["heading_free"] = free
+        return cols
+
+    def _update(self, gyro, acc, mag, timing: dict, extra: dict):
+        """The estimator's update on one chunk, and its rows whose heading is still free (no field has set it).
+
+        In 6D every row's heading is free.  In 9D a row's heading is free until the first magnetometer sample
+        has set it: for the AttitudeEstimator, until its first heading update (``mag_updates`` in its state,
+        at most one block of ``1 / update_rate`` after the first sample), so the chunk is run in parts around
+        that row (an update on parts equals one on the whole); for the others, until the first sample.
+        """
+        n = gyro.shape[0]
+        if not self.use_mag or self.heading_known:
+            return self.est.update(gyro, acc, mag, **timing, **extra), np.full(n, not self.use_mag)
+        seen = np.isfinite(mag).all(axis=1)
+        if not seen.any():
+            return self.est.update(gyro, acc, mag, **timing, **extra), np.ones(n, dtype=bool)
+        first = int(np.argmax(seen))
+
+        def part(a, b):
+            cut = {k: v[a:b] for k, v in timing.items() if k == "t"} or timing
+            return self.est.update(gyro[a:b], acc[a:b], mag[a:b], **cut, **{k: v[a:b] for k, v in extra.items()})
+
+        # the rows up to the first field and that field's own row (the heading it sets shows from the next)
+        parts, free = [part(0, first + 1)], np.ones(n, dtype=bool)
+        row = first + 1
+        if "mag_updates" not in (self.est.state or {}):  # no way to tell its first heading update: the sample's
+            self.heading_known = True
+        else:
+            self.heading_known = bool(self.est.state["mag_updates"])
+        while row < n and not self.heading_known:
+            parts.append(part(row, row + 1))
+            self.heading_known = bool(self.est.state["mag_updates"])
+            row += 1
+        if row < n:
+            parts.append(part(row, n))
+        free[row:] = False
+        return _joined(parts), free
+
 
     def _at_limit(self, e, imu, out: Segments, chunk):
         """Rows whose bias sits at ``bias_limit``; the first one is named once in the notes."""
@@ -235,6 +282,20 @@ class _Estimation:
             i = int(np.argmax(at_limit))
             out.notes.append(_bias_warning(e.bias[i], self.limit, out.t(chunk)[i], imu.where(chunk.row + i)))
         return at_limit
+
+
+def _joined(parts):
+    """One Estimate of the Estimates of consecutive rows."""
+    from ...fusion.estimate import Estimate
+
+    if len(parts) == 1:
+        return parts[0]
+
+    def cat(name):
+        values = [getattr(p, name) for p in parts]
+        return None if values[0] is None else np.concatenate(values)
+
+    return Estimate(q=cat("q"), frame=parts[0].frame, bias=cat("bias"), flags=cat("flags"))
 
 
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:

@@ -32,6 +32,7 @@ $(VENV)/.stamp-docs: pyproject.toml | $(BIN)/python
 	@touch $@
 
 demo: $(VENV)/.stamp-demo
+	$(BIN)/strapdown warmup --quiet
 	$(BIN)/strapdown demo
 
 test: $(VENV)/.stamp-test

@@ -62,7 +62,7 @@ def write_csv(path: Path, n: int = 200) -> Path:
 #: The floor under any call, measured in the same run with the last checkout: what every ``strapdown estimate``
 #: pays before it does anything of its own (Python with numpy; then numba imported and one cached kernel loaded,
 #: the first of a process, which loads numba's registries), with garbage collection as the program has it
-#: (paused while it starts, then what exists frozen: ``strapdown.cli._options.PausedCollection``).  "no scipy"
+#: (paused while it starts, then what exists frozen: ``strapdown.cli._run.PausedCollection``).  "no scipy"
 #: makes scipy unimportable in that process only, as for a user without it: numba then skips its BLAS check,
 #: which imports scipy.linalg when it is there.  "gc as usual" is "numba" with the collector left alone: the
 #: difference is the collections over numba's objects, while it loads and at the interpreter's exit.

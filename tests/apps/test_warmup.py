@@ -37,3 +37,10 @@ def test_the_command_runs_a_task_quietly():
     res = run("warmup", "conversions", "-q")
     assert res.returncode == 0, res.stderr
     assert res.stdout == ""
+
+
+@pytest.mark.parametrize("task", [name for name, _ in TASKS])
+def test_every_task_runs(task):
+    # each task calls real entry points: a wrong import or a renamed argument shows here, not in `make demo`
+    times = warmup(dtypes=(np.float64,), tasks=[task])
+    assert list(times) == [f"{task} float64"]

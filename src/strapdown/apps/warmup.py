@@ -1,7 +1,7 @@
 """Compile strapdown's numba kernels now instead of at their first call: ``python -m strapdown.apps.warmup``.
 
 numba compiles each kernel lazily, for the argument types of its first call, and caches the machine code on
-disk (``cache=True``; in ``__pycache__`` beside the package, or under ``NUMBA_CACHE_DIR``).  The first call of
+disk (``cache=True``; in one folder per version of the kernels, see :mod:`strapdown._support.kernel_cache`).  The first call of
 a function after an install therefore pays the compilation (about a second per kernel, several for the
 parallel scan; docs/guide/performance.md has the measured figures) and every later process only loads the
 cache.  Running this module once after installing moves that cost to the install: it calls the common entry
@@ -27,11 +27,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["TASKS", "warmup"]
+__all__ = ["FIRST_RUN", "TASKS", "compiling_notice", "warmup"]
 
 
 def _integrate(dtype) -> None:
-    from ..propagate import integrate
+    from ..propagate.integrate import integrate
 
     rng = np.random.default_rng(0)
     g = rng.standard_normal((300, 3)).astype(dtype)
@@ -145,3 +145,51 @@ def main(argv=None) -> int:
 
 if __name__ == "__main__":
     raise SystemExit(main())
+
+
+#: What the first run of a command compiles, by need: (what to call it, its kernels as (module file, function),
+#: and the seconds its compilation took on the reference machine, an idle 2-core AMD EPYC VM; benchmarks/
+#: bench_coldstart.py measures them).  The command line says so before it starts (:func:`compiling_notice`).
+FIRST_RUN = {
+    "estimator:attitude": ("the attitude estimator", [("fusion/_attitude_numba.py", "run")], 10),
+    "estimator:tilt": ("the tilt estimator", [("fusion/_tilt_numba.py", "run")], 4),
+    "estimator:mahony": ("the Mahony filter", [("fusion/_mahony_numba.py", "run")], 2),
+    "estimator:madgwick": ("the Madgwick filter", [("fusion/_madgwick_numba.py", "run")], 2),
+    "estimator:complementary": ("the complementary filter", [("fusion/_complementary_numba.py", "run")], 2),
+    "integrate": ("the integrator", [("propagate/_integrate_numba.py", "sequential")], 3),
+    "files": ("the output columns", [("io/_columns_numba.py", "quat_euler_columns")], 2),
+}
+
+
+def compiling_notice(needs) -> str | None:
+    """The line to say before a run that will compile kernels for this machine, or None when all are compiled.
+
+    Parameters
+    ----------
+    needs : iterable of str
+        Keys of :data:`FIRST_RUN` (``"estimator:attitude"``, ``"files"``).
+
+    Returns
+    -------
+    str or None
+        E.g. ``"compiling the attitude estimator for this machine, once: about 12 s (...)"``.
+
+    Examples
+    --------
+    >>> from strapdown.apps.warmup import compiling_notice
+    >>> compiling_notice([]) is None
+    True
+    """
+    from .._support import kernel_cache
+
+    missing = [
+        FIRST_RUN[key] for key in needs if not all(kernel_cache.cached(f, k) for f, k in FIRST_RUN[key][1])
+    ]
+    if not missing:
+        return None
+    names = " and ".join(what for what, _, _ in missing)
+    seconds = sum(s for _, _, s in missing)
+    return (
+        f"compiling {names} for this machine, once: about {seconds} s (later runs start at once; "
+        "`strapdown warmup` compiles every kernel ahead)"
+    )

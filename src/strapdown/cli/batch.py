@@ -6,7 +6,7 @@ import importlib
 
 import click
 
-from ._options import Progress
+from ._run import Progress
 
 #: The commands a batch runs; each module's ``kwargs`` turns the command's options into its function's arguments.
 BATCH_COMMANDS = ("integrate", "estimate", "convert")

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import click
 
-from ._options import CHUNK_ROWS, FORMATS, is_number, representations, run_file
+from ._options import CHUNK_ROWS, FORMATS, is_number, representations
+from ._run import run_file
 
 
 @click.command(context_settings={"ignore_unknown_options": True})

@@ -19,8 +19,8 @@ from ._options import (
     parse_params,
     parse_q0,
     read_options,
-    run_file,
 )
+from ._run import run_file, say_compiling
 
 
 def kwargs(p: dict) -> dict:
@@ -138,4 +138,5 @@ def command(paths, **p):
         options = kwargs(p)
     except (ValueError, OSError, ImportError) as exc:  # a bad calibration file, a date out of the model's span
         raise click.ClickException(str(exc)) from None
+    say_compiling([f"estimator:{options.get('estimator', 'attitude')}", "files"], p["quiet"])
     run_file(estimate_file, one_or_many(paths), p.get("output"), options, p["quiet"])

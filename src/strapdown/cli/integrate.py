@@ -16,8 +16,8 @@ from ._options import (
     output_spec,
     parse_q0,
     read_options,
-    run_file,
 )
+from ._run import run_file, say_compiling
 
 
 def kwargs(p: dict) -> dict:
@@ -73,4 +73,5 @@ def command(paths, **p):
     """
     from ..io import integrate_file
 
+    say_compiling(["integrate", "files"], p["quiet"])
     run_file(integrate_file, one_or_many(paths), p.get("output"), kwargs(p), p["quiet"])

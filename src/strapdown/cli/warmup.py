@@ -13,9 +13,10 @@ from ..apps.warmup import TASKS
 def command(tasks, quiet):
     """Compile the kernels of the common calls now, so that no later call waits for numba to compile.
 
-    numba compiles each kernel at its first call and caches the machine code beside the installed package (or
-    in NUMBA_CACHE_DIR): the first `strapdown estimate` after an install compiles for 15-25 s (2 busy cores), later
-    ones load the cache.  Run this once after installing to move that wait here (all tasks: about a minute).
+    numba compiles each kernel at its first call and caches the machine code in a user cache folder, one per
+    version of the kernels (~/.cache/strapdown, or STRAPDOWN_CACHE_DIR or NUMBA_CACHE_DIR): the first `strapdown
+    estimate` after an install compiles for several seconds and says so, later ones load the cache.  Run this once
+    after installing to move that wait here (all tasks: about a minute).
     TASKS: integrate, conversions, estimators, files (default: all); `strapdown estimate` uses estimators,
     conversions and files, `strapdown integrate` integrate and files.
 

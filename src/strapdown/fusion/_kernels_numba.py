@@ -12,6 +12,7 @@ import math
 
 import numba as nb
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ..propagate._integrate_numba import TAYLOR_SHORT, exp_half_minus_one
 from ..rotations._quaternion_numba import qmul
 

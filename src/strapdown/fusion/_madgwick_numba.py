@@ -6,6 +6,7 @@ import math
 
 import numba as nb
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ._kernels_numba import unit3
 
 

@@ -23,6 +23,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ..rotations._matrix_numba import shepperd
 
 EULER_ANGLES = 0

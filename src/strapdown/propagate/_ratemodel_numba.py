@@ -14,6 +14,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
+
 
 @nb.njit(cache=True, error_model="numpy")
 def _basis_value(taus, npts, j, tau):

@@ -21,6 +21,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ..rotations._quaternion_numba import qmul
 
 _SERIES = 0.25  # θ below which k1, k3, m1 and m2 come from six series terms (error < 1e-19)

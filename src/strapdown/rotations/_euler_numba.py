@@ -11,6 +11,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ._quaternion_numba import qmul
 
 

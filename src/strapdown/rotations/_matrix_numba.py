@@ -6,6 +6,8 @@ import math
 
 import numba as nb
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
+
 
 @nb.njit(cache=True)
 def as_matrix_rows(q, out):

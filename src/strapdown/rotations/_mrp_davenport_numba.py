@@ -13,6 +13,7 @@ import math
 
 import numba as nb
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
 from ._quaternion_numba import qmul
 
 

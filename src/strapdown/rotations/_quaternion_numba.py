@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numba as nb
 
+from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache, before any kernel: its notes)
+
 
 @nb.njit(cache=True)
 def qmul(aw, ax, ay, az, bw, bx, by, bz):

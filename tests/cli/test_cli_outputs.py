@@ -229,10 +229,50 @@ def _with_gap(tmp_path):
     return write_table(tmp_path / "gap.parquet", cols), cols
 
 
-def test_a_gap_stops_estimate_by_default(tmp_path):
+def test_a_gap_stops_estimate_with_on_gap_error(tmp_path):
     src, _ = _with_gap(tmp_path)
-    res = run("estimate", src, "--body", "FRD")
-    assert res.returncode == 1 and "gap of 5.01 s" in res.stderr and "--on-gap" not in res.stdout
+    res = run("estimate", src, "--body", "FRD", "--on-gap", "error")
+    assert res.returncode == 1 and "gap of 5.01 s" in res.stderr and "--on-gap bridge" in res.stderr
+    assert not (tmp_path / "gap.estimate.csv").exists()
+
+
+def test_a_long_gap_restarts_estimate_by_default_with_a_warning(tmp_path):
+    src, cols = _with_gap(tmp_path)
+    res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--frame", "NED")
+    # a quiet gyro bridges up to 1 deg / (0.5 deg/s + noise): with this file's 1e-4 rad/s of noise 1.98 s; 5 s
+    # is longer, so the run starts afresh
+    limit = np.radians(1.0) / (np.radians(0.5) + 1e-4)
+    assert "warning: 1 gap(s)" in res.stderr and f"longer than {limit:.3g} s" in res.stderr and "--on-gap error" in res.stderr
+    table = read_table(tmp_path / "att.parquet")
+    np.testing.assert_array_equal(table["segment"], np.repeat([0, 1], 300))
+    assert not table["gap"].any()
+    assert abs(table["roll_deg"][300] - 30.0) < 0.1
+
+
+def test_a_short_gap_is_bridged_by_default_with_a_gap_column(tmp_path):
+    first = still(300)
+    second = still(300, t0=3.5, seed=1)  # 0.5 s without samples: 51 periods, within the 2 s bridge
+    cols = {k: np.concatenate([first[k], second[k]]) for k in first}
+    src = write_table(tmp_path / "short.parquet", cols)
+    res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--frame", "NED")
+    assert "1 gap(s) over 10 sample periods bridged" in res.stderr and "2.99 s -> 3.5 s" in res.stderr
+    table = read_table(tmp_path / "att.parquet")
+    assert np.flatnonzero(table["gap"]).tolist() == [300]  # the first row after the gap
+    assert (table["segment"] == 0).all()
+    # the same run with the gap restarting it: bridged, the estimator's state (here its heading) carries over
+    ok("estimate", src, "-o", tmp_path / "r.parquet", "--body", "FRD", "--frame", "NED", "--on-gap", "restart")
+    assert (read_table(tmp_path / "r.parquet")["segment"] == np.repeat([0, 1], 300)).all()
+    # --bridge sets the limit: 0.1 s restarts this gap
+    ok("estimate", src, "-o", tmp_path / "b.parquet", "--body", "FRD", "--frame", "NED", "--bridge", "0.1")
+    assert read_table(tmp_path / "b.parquet")["segment"][-1] == 1
+
+
+def test_a_plausibility_check_comes_before_the_gap_refusal(tmp_path):
+    src, cols = _with_gap(tmp_path)
+    cols = {**cols, "ax": cols["ax"] / G, "ay": cols["ay"] / G, "az": cols["az"] / G}  # g declared m/s2
+    src = write_table(tmp_path / "g.parquet", cols)
+    res = run("estimate", src, "--body", "FRD", "--on-gap", "error")
+    assert res.returncode == 1 and "--acc-unit g" in res.stderr and "gap" not in res.stderr
 
 
 def test_on_gap_restart_starts_the_estimator_afresh_in_one_file(tmp_path):
@@ -424,3 +464,42 @@ def test_an_integration_of_a_px4_log_plots_against_its_own_attitude(tmp_path):
     res = ok("plot", tmp_path / "int.parquet", "--truth", PX4_LOG, "--out", tmp_path / "fig")
     assert "not checked" in res.stderr and "interpolated" in res.stderr
     assert (tmp_path / "fig" / "int_errors.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_one_file_with_gyro_and_acc_beside_a_later_magnetometer_file(tmp_path):
+    """An ArduPilot-style IMU table (gyro and accelerometer in one file) and a MAG file that starts 2 s later."""
+    cols = still(600)
+    write_table(tmp_path / "IMU.csv", {k: cols[k] for k in ("t", "gx", "gy", "gz", "ax", "ay", "az")})
+    write_table(tmp_path / "MAG.csv", {"t": cols["t"][200::4], **{k: cols[k][200::4] for k in ("mx", "my", "mz")}})
+    out = tmp_path / "att.parquet"
+    ok("estimate", tmp_path / "IMU.csv", tmp_path / "MAG.csv", "-o", out, "--body", "FRD", "--frame", "NED")
+    table = read_table(out)
+    free = np.asarray(table["heading_free"], dtype=bool)
+    # the heading is free up to the first field's row (200); the field sets it, which shows from the next row
+    np.testing.assert_array_equal(free, np.arange(600) <= 200)
+    assert abs(signed(table["yaw_deg"][201])) < 0.1  # facing north, once the field has been read
+    # 6D: every row's heading is free
+    ok("estimate", tmp_path / "IMU.csv", "-o", out, "--body", "FRD", "--frame", "NED")
+    assert np.asarray(read_table(out)["heading_free"], dtype=bool).all()
+
+
+def _phone(tmp_path, **acc_changes):
+    cols = still(600)
+    write_table(tmp_path / "Gyroscope.csv", {"time": cols["t"], "x": cols["gx"], "y": cols["gy"], "z": cols["gz"]})
+    acc = {"time": cols["t"][::2], "x": cols["ax"][::2], "y": cols["ay"][::2].copy(), "z": cols["az"][::2]}
+    acc.update(acc_changes)
+    write_table(tmp_path / "Accelerometer.csv", acc)
+    return run("estimate", tmp_path / "Gyroscope.csv", tmp_path / "Accelerometer.csv", "-o", tmp_path / "a.csv")
+
+
+def test_a_problem_in_one_file_of_a_recording_names_that_file_and_its_line(tmp_path):
+    y = still(600)["ay"][::2].copy()
+    y[50] = np.nan
+    res = _phone(tmp_path, y=y)
+    # data row 50 of Accelerometer.csv is its line 52 (line 1 the header)
+    assert res.returncode == 1 and f"{tmp_path / 'Accelerometer.csv'}: NaN or empty values at line 52" in res.stderr
+    assert "Gyroscope.csv:" not in res.stderr
+    cols = still(600)
+    res = _phone(tmp_path, **{a: cols[f"a{a}"][::2] / G for a in "xyz"})  # in g, declared m/s2
+    assert res.returncode == 1 and "Accelerometer.csv: |acc| is about 1 m/s2" in res.stderr
+    assert "Gyroscope.csv:" not in res.stderr

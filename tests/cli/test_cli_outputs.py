@@ -503,3 +503,34 @@ def test_a_problem_in_one_file_of_a_recording_names_that_file_and_its_line(tmp_p
     res = _phone(tmp_path, **{a: cols[f"a{a}"][::2] / G for a in "xyz"})  # in g, declared m/s2
     assert res.returncode == 1 and "Accelerometer.csv: |acc| is about 1 m/s2" in res.stderr
     assert "Gyroscope.csv:" not in res.stderr
+
+
+def test_a_file_without_a_header_row_is_named_so_and_read_by_column_numbers(tmp_path):
+    cols = still(600)
+    rows = np.column_stack([cols[k] for k in ("t", "gx", "gy", "gz", "ax", "ay", "az")])
+    np.savetxt(tmp_path / "vendor.csv", rows, delimiter=",", fmt="%.9f")
+    res = run("estimate", tmp_path / "vendor.csv", "-o", tmp_path / "a.csv")
+    assert res.returncode == 1 and "vendor.csv has no header row" in res.stderr and "--gyro 2,3,4" in res.stderr
+    out = tmp_path / "a.parquet"
+    numbers = ("--time", "1", "--gyro", "2,3,4", "--acc", "5,6,7", "--body", "FRD", "--frame", "NED")
+    ok("estimate", tmp_path / "vendor.csv", "-o", out, *numbers)
+    table = read_table(out)
+    assert table["t"].size == 600 and abs(table["roll_deg"][-1]) < 0.1  # its first line is data, level
+    # beside a headerless MAG file: FILE:COLS says which file holds what
+    mag = np.column_stack([cols[k] for k in ("t", "mx", "my", "mz")])
+    np.savetxt(tmp_path / "MAG.csv", mag, delimiter=",", fmt="%.9f")
+    picks = ("--gyro", "vendor.csv:2,3,4", "--acc", "vendor.csv:5,6,7", "--mag", "MAG.csv:2,3,4", "--time", "1")
+    ok("estimate", tmp_path / "vendor.csv", tmp_path / "MAG.csv", "-o", out, "--body", "FRD", "--frame", "NED", *picks)
+    assert abs(signed(read_table(out)["yaw_deg"][-1])) < 0.1
+    res = run("estimate", tmp_path / "vendor.csv", tmp_path / "MAG.csv", "--gyro", "other.csv:2,3,4")
+    assert res.returncode == 1 and "other.csv is none of the inputs (vendor.csv, MAG.csv)" in res.stderr
+
+
+def test_file_cols_picks_one_of_two_files_that_both_hold_a_sensor(tmp_path):
+    cols = still(600)
+    write_table(tmp_path / "IMU.csv", {k: cols[k] for k in ("t", "gx", "gy", "gz", "ax", "ay", "az")})
+    # a second IMU table (a second instance): both hold gyro and accelerometer columns
+    write_table(tmp_path / "IMU2.csv", {"t": cols["t"], "GyrX": cols["gx"], "GyrY": cols["gy"], "GyrZ": cols["gz"]})
+    res = run("integrate", tmp_path / "IMU.csv", tmp_path / "IMU2.csv", "-o", tmp_path / "a.csv")
+    assert res.returncode == 1 and "both hold gyro readings" in res.stderr and "--gyro IMU" in res.stderr
+    ok("integrate", tmp_path / "IMU.csv", tmp_path / "IMU2.csv", "-o", tmp_path / "a.csv", "--gyro", "IMU2.csv:GyrX,GyrY,GyrZ")

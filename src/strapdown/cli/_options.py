@@ -63,10 +63,17 @@ def read_options(f, *, acc: bool = True, mag: bool = True):
     import click
 
     opts = [
-        click.option("--gyro", metavar="COLS", help="Gyro columns: gx,gy,gz or one (N, 3) array (default: detected)."),
-        click.option("--acc", metavar="COLS", help="Accelerometer columns (default: detected).") if acc else None,
-        click.option("--mag", metavar="COLS", help="Magnetometer columns (default: detected).") if mag else None,
-        click.option("--time", "time_col", metavar="COL", help="Time column (default: t, time, timestamp, ...)."),
+        click.option(
+            "--gyro",
+            metavar="[FILE:]COLS",
+            help="Gyro columns: gx,gy,gz, one (N, 3) array, or numbers (2,3,4) in a file without a header; FILE: "
+            "which of several inputs holds them (default: detected in each file).",
+        ),
+        click.option("--acc", metavar="[FILE:]COLS", help="Accelerometer columns (as --gyro).") if acc else None,
+        click.option("--mag", metavar="[FILE:]COLS", help="Magnetometer columns (as --gyro).") if mag else None,
+        click.option(
+            "--time", "time_col", metavar="[FILE:]COL", help="Time column (default: t, time, timestamp, ...)."
+        ),
         click.option("--rate", type=float, metavar="HZ", help="Sample rate, for files without a time column."),
         unit_option("gyro", "rad/s"),
         unit_option("acc", "m/s2") if acc else None,

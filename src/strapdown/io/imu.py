@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
+from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, no_header_row, pick_vector
 from .formats.multi import kind_of_file
 from .plausibility import check_chunk, probe
 from .readers import Source, check_chunk_rows, open_source, require_rows
@@ -49,9 +49,11 @@ class ImuColumns:
     Attributes
     ----------
     gyro, acc, mag : str, optional
-        Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``).
+        Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``); in a file without a
+        header row, column numbers (``"2,3,4"``, 1 the first).  With several input files, ``FILE:COLS`` names
+        the file too (``"imu.csv:AccX,AccY,AccZ"``; FILE as given or its name).
     time : str, optional
-        The time column.  Times are counted from the first sample; integers (epoch nanoseconds, µs since boot)
+        The time column (``FILE:COL`` as above).  Times are counted from the first sample; integers (epoch nanoseconds, µs since boot)
         exactly, in integer arithmetic, with their unit inferred from the median step unless ``time_unit`` says
         it (:mod:`strapdown.io.timebase`).
     rate : float, optional
@@ -126,6 +128,41 @@ class ImuChunk:
         return self.t.shape[0]
 
 
+def _file_picks(path, spec: ImuColumns) -> tuple[ImuColumns, dict]:
+    """The ``FILE:COLS`` columns of ``spec`` as ``{Path: {kind: COLS}}`` for several files, and the spec without them.
+
+    For one file, ``FILE:COLS`` naming that file is its ``COLS``; for several, a ``time`` without a file is
+    every file's time column.
+    """
+    from dataclasses import replace
+    from pathlib import Path
+
+    paths = [Path(p) for p in path] if isinstance(path, list | tuple) else [Path(path)]
+    picks: dict = {}
+    changes = {}
+    for kind in ("gyro", "acc", "mag", "time"):
+        given = getattr(spec, kind)
+        if given and kind == "time" and ":" not in given and len(paths) > 1:
+            for p in paths:  # one time column name (or number) for every file
+                picks.setdefault(p, {})["time"] = given
+            changes["time"] = None
+        if not given or ":" not in given:
+            continue
+        name, cols = given.rsplit(":", 1)
+        match = [p for p in paths if str(p) == name or p.name == name]
+        if not match:
+            if len(paths) == 1:
+                continue  # a column name with a colon in it
+            shown = ", ".join(p.name for p in paths)
+            raise ValueError(f"--{kind} {given}: {name} is none of the inputs ({shown})")
+        if len(paths) == 1:
+            changes[kind] = cols
+        else:
+            picks.setdefault(match[0], {})[kind] = cols
+            changes[kind] = None
+    return (replace(spec, **changes) if changes else spec), picks
+
+
 class ImuFile:
     """A file of IMU readings: the columns resolved, units fixed, and checked chunks on demand.
 
@@ -196,7 +233,10 @@ class ImuFile:
         increments: bool = False,
     ):
         self.spec = columns or ImuColumns()
+        self.spec, picks = _file_picks(path, self.spec)
         options = {k: getattr(self.spec, k) for k in ("topic", "mag_topic", "time_unit") if getattr(self.spec, k)}
+        if picks:
+            options["picks"] = picks
         self.source: Source = open_source(path, self.spec.format, **options)
         self.path = self.source.path
         self.format = self.source.format
@@ -224,6 +264,8 @@ class ImuFile:
                 bare = self.source.format == "csv" and kind_of_file(self.path.name) == kind
                 pick = detect_vector(kind, fields, units=self.source.units, bare=bare)
             if pick is None:
+                if kind in require and getattr(self.source, "headerless", False):
+                    raise no_header_row(self.path, fields, f"{kind} columns")
                 if kind in require:
                     raise ValueError(
                         f"{self.path}: no {kind} columns found (looked for {_LOOKED_FOR[kind]}); name them with "
@@ -266,6 +308,8 @@ class ImuFile:
             self.time = detect_time(fields)
             if self.time is None:
                 self.rate = detect_rate(self.source.scalars)
+            if self.time is None and self.rate is None and getattr(self.source, "headerless", False):
+                raise no_header_row(self.path, fields, "time column")
             if self.time is None and self.rate is None:
                 raise ValueError(
                     f"{self.path}: no time column found (looked for t, time, timestamp, ts, time_s, ...) and no "

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..columns import describe_fields, detect_time, detect_vector
+from ..columns import describe_fields, detect_time, detect_vector, no_header_row, pick_vector
 from ..merge import place_on_rows
 from ..source import MemorySource, Source, TimeOrigin
 from ..timebase import check_period, infer_time_unit, origin_of
@@ -138,11 +138,7 @@ def read_stream(src: Source, kind: str | None = None, time: str | None = None) -
 def _no_columns(src: Source, kind: str | None) -> ValueError:
     what = kind or "gyro, accelerometer or magnetometer"
     if getattr(src, "headerless", False):
-        return ValueError(
-            f"{src.path} has no header row (its first line is numbers), so no column says what it holds: name "
-            f"the {what} columns by number, 1 being the first (--gyro {src.path.name}:2,3,4 --acc "
-            f"{src.path.name}:5,6,7, or --gyro 2,3,4 for one file); it has columns {describe_fields(src.fields)}"
-        )
+        return no_header_row(src.path, src.fields, f"{what} columns")
     return ValueError(
         f"{src.path}: cannot tell which columns hold the {what} readings (looked for x,y,z and names like "
         f"gyro_x); it has: {describe_fields(src.fields)}; name them with --gyro/--acc/--mag {src.path.name}:COLS"
@@ -180,10 +176,13 @@ def read_streams(src: Source, kind: str | None = None, time: str | None = None, 
     >>> [(s.kind, s.fields) for s in read_streams(open_source(path))]
     [('gyro', ('GyrX', 'GyrY', 'GyrZ')), ('acc', ('AccX', 'AccY', 'AccZ'))]
     """
-    from ..columns import pick_vector
 
     fields = src.fields
     found = {}
+    picks = dict(picks or {})
+    if "time" in picks:
+        given = picks.pop("time")
+        time = pick_vector(given, fields, f"--time {src.path.name}:{given}", width=1).fields[0]
     if picks:
         for k, spec in picks.items():
             found[k] = pick_vector(spec, fields, f"--{k} {src.path.name}:{spec}")
@@ -202,7 +201,7 @@ def read_streams(src: Source, kind: str | None = None, time: str | None = None, 
         detected = detect_time(fields)
         if detected is None:
             if getattr(src, "headerless", False):
-                raise _no_columns(src, None)
+                raise no_header_row(src.path, fields, "time column")
             raise ValueError(
                 f"{src.path}: no time column (looked for time, t, timestamp, ...); it has: {describe_fields(fields)}"
             )
@@ -373,13 +372,13 @@ def open_streams(paths, kinds: dict | None = None, opener=None, picks: dict | No
         from .csv import open_csv as opener
 
     picks = picks or {}
-    given = {k for chosen in picks.values() for k in chosen}
+    given = {k for chosen in picks.values() for k in chosen if k != "time"}
     streams = {}
     for p in paths:
         with opener(p) as src:
             found = read_streams(src, (kinds or {}).get(p), picks=picks.get(p))
         for s in found:
-            if s.kind in given and p not in picks:
+            if s.kind in given and s.kind not in picks.get(p, {}):
                 continue  # that sensor is named in another file
             if s.kind in streams:
                 raise ValueError(

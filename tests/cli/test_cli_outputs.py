@@ -237,12 +237,16 @@ def test_a_gap_stops_estimate_with_on_gap_error(tmp_path):
 
 
 def test_a_long_gap_restarts_estimate_by_default_with_a_warning(tmp_path):
-    src, cols = _with_gap(tmp_path)
+    src, _ = _with_gap(tmp_path)
     res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--frame", "NED")
     # a quiet gyro bridges up to 1 deg / (0.5 deg/s + noise): with this file's 1e-4 rad/s of noise 1.98 s; 5 s
     # is longer, so the run starts afresh
     limit = np.radians(1.0) / (np.radians(0.5) + 1e-4)
-    assert "warning: 1 gap(s)" in res.stderr and f"longer than {limit:.3g} s" in res.stderr and "--on-gap error" in res.stderr
+    assert (
+        "warning: 1 gap(s)" in res.stderr
+        and f"longer than {limit:.3g} s" in res.stderr
+        and "--on-gap error" in res.stderr
+    )
     table = read_table(tmp_path / "att.parquet")
     np.testing.assert_array_equal(table["segment"], np.repeat([0, 1], 300))
     assert not table["gap"].any()
@@ -533,4 +537,46 @@ def test_file_cols_picks_one_of_two_files_that_both_hold_a_sensor(tmp_path):
     write_table(tmp_path / "IMU2.csv", {"t": cols["t"], "GyrX": cols["gx"], "GyrY": cols["gy"], "GyrZ": cols["gz"]})
     res = run("integrate", tmp_path / "IMU.csv", tmp_path / "IMU2.csv", "-o", tmp_path / "a.csv")
     assert res.returncode == 1 and "both hold gyro readings" in res.stderr and "--gyro IMU" in res.stderr
-    ok("integrate", tmp_path / "IMU.csv", tmp_path / "IMU2.csv", "-o", tmp_path / "a.csv", "--gyro", "IMU2.csv:GyrX,GyrY,GyrZ")
+    ok(
+        "integrate",
+        tmp_path / "IMU.csv",
+        tmp_path / "IMU2.csv",
+        "-o",
+        tmp_path / "a.csv",
+        "--gyro",
+        "IMU2.csv:GyrX,GyrY,GyrZ",
+    )
+
+
+def test_frd_data_read_in_the_default_flu_axes_is_warned_with_the_body_that_fits(tmp_path):
+    src = write_table(tmp_path / "frd.csv", still(600))  # level FRD: gravity reads -z, up in FRD
+    res = ok("estimate", src, "-o", tmp_path / "a.parquet")
+    assert "warning:" in res.stderr and "reads gravity downward" in res.stderr and "pass --body FRD" in res.stderr
+    assert abs(abs(signed(read_table(tmp_path / "a.parquet")["roll_deg"][-1])) - 180.0) < 0.5  # as warned
+    res = ok("estimate", src, "-o", tmp_path / "a.parquet", "--body", "FRD")
+    assert "warning:" not in res.stderr and abs(read_table(tmp_path / "a.parquet")["roll_deg"][-1]) < 0.1
+
+
+def test_a_magnetometer_in_milligauss_is_caught_and_accepted(tmp_path):
+    cols = still(600)
+    for unit, factor in (("mG", 10.0), ("gauss", 0.01)):  # 1 uT = 10 mG = 0.01 gauss
+        src = write_table(tmp_path / f"{unit}.csv", {**cols, **{f"m{a}": cols[f"m{a}"] * factor for a in "xyz"}})
+        res = run("estimate", src, "--body", "FRD", "-o", tmp_path / "a.csv")
+        assert res.returncode == 1 and f"look like {unit}" in res.stderr and f"--mag-unit {unit}" in res.stderr
+        ok("estimate", src, "--body", "FRD", "--frame", "NED", "--mag-unit", unit, "-o", tmp_path / "a.parquet")
+        assert abs(signed(read_table(tmp_path / "a.parquet")["yaw_deg"][-1])) < 0.1  # facing north
+
+
+def test_a_gyro_in_deg_s_read_as_rad_s_is_caught_in_gentle_motion(tmp_path):
+    t = np.arange(4000) / 100.0
+    roll = np.radians(30.0) * np.sin(2 * np.pi * 0.15 * t)  # peak 28 deg/s: "28 rad/s" is within a gyro's range
+    rate = np.radians(30.0) * 2 * np.pi * 0.15 * np.cos(2 * np.pi * 0.15 * t)
+    cols = {"t": t, "gx": np.degrees(rate), "gy": 0 * t, "gz": 0 * t}
+    cols.update(ax=0 * t, ay=G * np.sin(roll), az=G * np.cos(roll))  # FLU
+    src = write_table(tmp_path / "deg.csv", cols)
+    res = run("estimate", src, "-o", tmp_path / "a.csv")
+    assert res.returncode == 1 and "the values look like deg/s" in res.stderr and "--gyro-unit deg/s" in res.stderr
+    ok("estimate", src, "--gyro-unit", "deg/s", "-o", tmp_path / "a.parquet")
+    np.testing.assert_allclose(
+        read_table(tmp_path / "a.parquet")["roll_deg"][-1000:], np.degrees(roll[-1000:]), atol=0.5
+    )

@@ -53,9 +53,9 @@ class ImuColumns:
         header row, column numbers (``"2,3,4"``, 1 the first).  With several input files, ``FILE:COLS`` names
         the file too (``"imu.csv:AccX,AccY,AccZ"``; FILE as given or its name).
     time : str, optional
-        The time column (``FILE:COL`` as above).  Times are counted from the first sample; integers (epoch nanoseconds, µs since boot)
-        exactly, in integer arithmetic, with their unit inferred from the median step unless ``time_unit`` says
-        it (:mod:`strapdown.io.timebase`).
+        The time column (``FILE:COL`` as above).  Times are counted from the first sample; integers (epoch
+        nanoseconds, µs since boot) exactly, in integer arithmetic, with their unit inferred from the median
+        step unless ``time_unit`` says it (:mod:`strapdown.io.timebase`).
     rate : float, optional
         Sample rate in Hz, for files without time (row k is at k / rate).
     gyro_unit, acc_unit, mag_unit, time_unit : str, optional

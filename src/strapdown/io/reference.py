@@ -107,13 +107,15 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
     """
     from .readers import input_format, open_source, read_metadata
 
+    from .registry import formats
+
     path = Path(path)
     fmt = input_format(path, format)
-    if fmt == "ulog":
-        from .formats.ulog import read_attitude
-
-        t, q, origin = read_attitude(path, topic)
-        return Reference(t, _unit(q, path, "vehicle_attitude"), "NED", "FRD", origin, "vehicle_attitude")
+    hook = getattr(formats().get(fmt), "reference", None)
+    if hook is not None:  # a log's own estimate (PX4 vehicle_attitude, ArduPilot ATT, a ROS Imu orientation)
+        found = dict(hook(path, topic=topic))
+        found["q"] = _unit(np.asarray(found["q"], dtype=np.float64), path, found.get("source", "attitude"))
+        return Reference(**found)
     from .columns import detect_time
     from .timebase import origin_of
     from .units import scale

@@ -58,7 +58,9 @@ class CsvSource(Source):
         self.header = [h.strip() for h in next(csv.reader([head], delimiter=self.delimiter))]
         #: no header row (the first line is numbers, as some sensor vendors export): the columns are named by
         #: their numbers, "1" the first, and that line is data
-        self.headerless = head is first and any(self.header) and all(_is_number(h.replace(",", ".")) for h in self.header if h)
+        self.headerless = (
+            head is first and any(self.header) and all(_is_number(h.replace(",", ".")) for h in self.header if h)
+        )
         if self.headerless:
             self.header = [str(i + 1) for i in range(len(self.header))]
             n_skip, lines = len(before), [first, *rest]

@@ -3,9 +3,10 @@
 Each file is read whole (phone and lab exports are small), its sensor told by its name (``Gyroscope.csv``,
 ``accel.csv``, ``Magnetometer.csv``, ...) or else its sensors by their columns (one file may hold several:
 an ArduPilot ``IMU`` table's ``GyrX..GyrZ`` and ``AccX..AccZ`` beside a ``MAG`` file), or as given per file
-(``--acc imu.csv:AccX,AccY,AccZ``), its time column by name (``time``, ``Time (s)``, ``timestamp``).  Times are put on one clock exactly: integer columns count from their own first
-value in integers, and the offsets between the files' first values are integers too.  Then the accelerometer and
-magnetometer samples go to the nearest gyro rows (:mod:`strapdown.io.merge`); the rows they miss are NaN.
+(``--acc imu.csv:AccX,AccY,AccZ``), its time column by name (``time``, ``Time (s)``, ``timestamp``).  Times
+are put on one clock exactly: integer columns count from their own first value in integers, and the offsets
+between the files' first values are integers too.  Then the accelerometer and magnetometer samples go to the
+nearest gyro rows (:mod:`strapdown.io.merge`); the rows they miss are NaN.
 """
 
 from __future__ import annotations
@@ -176,7 +177,6 @@ def read_streams(src: Source, kind: str | None = None, time: str | None = None, 
     >>> [(s.kind, s.fields) for s in read_streams(open_source(path))]
     [('gyro', ('GyrX', 'GyrY', 'GyrZ')), ('acc', ('AccX', 'AccY', 'AccZ'))]
     """
-
     fields = src.fields
     found = {}
     picks = dict(picks or {})

@@ -199,6 +199,17 @@ def _open(path, topic=None, mag_topic=None):
     return UlogSource(Path(path), topic=topic, mag_topic=mag_topic)
 
 
+def _reference(path, topic=None) -> dict:
+    t, q, origin = read_attitude(path, topic)
+    return {"t": t, "q": q, "frame": "NED", "body": "FRD", "time_origin": origin, "source": "vehicle_attitude"}
+
+
+def _position(path):
+    from ..position import ulog_position
+
+    return ulog_position(path)
+
+
 #: This module's format, for :mod:`strapdown.io.registry`.
 FORMAT = Format(
     "ulog",
@@ -207,4 +218,6 @@ FORMAT = Format(
     detect=_is_ulog,
     options=("topic", "mag_topic"),
     description="PX4 ULog (pyulog)",
+    reference=_reference,
+    position=_position,
 )

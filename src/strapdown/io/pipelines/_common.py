@@ -266,8 +266,10 @@ def read_columns(o: FileOptions) -> ImuColumns:
 
 
 def gap_bridge(o: FileOptions, imu) -> float:
-    """The longest gap a run bridges, s: ``o.bridge``, or every gap (``"bridge"``), none (``"restart"``,
-    ``"split"``), or under ``"auto"`` the limit of the file's gyro (:func:`~strapdown.io.conventions.bridge_limit`).
+    """The longest gap a run bridges, s.
+
+    Every gap under ``"bridge"``, none under ``"restart"`` and ``"split"``; under ``"auto"`` ``o.bridge``, or the
+    limit of the file's gyro (:func:`~strapdown.io.conventions.bridge_limit`).
     """
     if o.on_gap == "bridge":
         return float("inf")

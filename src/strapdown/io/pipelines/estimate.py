@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import inspect
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from .._ahead import ReadAhead
 from ..conventions import output_metadata, resolve_axes
 from ..imu import ImuFile
+from ..plausibility import gravity_warning
 from ..tables import _attitude_columns, flag_bits
 from ._common import (
     FileOptions,
@@ -21,8 +22,8 @@ from ._common import (
     input_paths,
     metadata,
     options_of,
-    read_columns,
     output_path,
+    read_columns,
     rows_text,
     with_progress,
 )
@@ -74,8 +75,11 @@ class EstimateOptions(FileOptions):
         Calibrations by sensor (``"gyro"``, ``"acc"``, ``"mag"``, as
         :func:`strapdown.calibrate.load` returns them), applied to the readings in their own axes before
         anything else.
-    declination : float, optional
+    declination : float or "auto", optional
         Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
+        ``"auto"``: the World Magnetic Model's at the place and date the log records (its GPS:
+        :func:`strapdown.io.position.log_position`; the ``geomag`` extra), named in the notes and the metadata;
+        a ValueError when the log records none.
         The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
 
     The fields of :class:`FileOptions` (``columns``, ``out``, ``frame``, ``body``, ``out_body``, ``on_gap``,
@@ -88,7 +92,7 @@ class EstimateOptions(FileOptions):
     mag: bool | None = None
     q0: object = None
     calibration: object = None
-    declination: float | None = None
+    declination: float | str | None = None
 
 
 def estimate_file(path, output=None, options: EstimateOptions | None = None, *, progress=None, **changes) -> Report:
@@ -144,7 +148,7 @@ def estimate_file(path, output=None, options: EstimateOptions | None = None, *, 
                 out.write(seg, run.chunk(imu, path, out, seg, chunk))
         report = Report(input_paths(path)[0], out.outputs[0], out.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{o.estimator} {'9D' if run.use_mag else '6D'}, {run.axes.describe()}")
-        report.notes.extend(out.notes)
+        report.notes.extend(run.warnings + out.notes)
         report.outputs = out.outputs
         return report
 
@@ -174,6 +178,7 @@ class _Estimation:
         self.est = None
         self.warned = False
         self.heading_known = False
+        self.warnings: list[str] = []
 
     def start(self, imu, path) -> dict:
         """Check the file against the estimator and calibrations; the output's metadata."""
@@ -188,13 +193,42 @@ class _Estimation:
         self.axes = resolve_axes(imu, o.frame, o.body, o.out_body)
         self.use_mag = "mag" in imu.picks
         check_axes(self.calibrations, self.axes.sensor, self.axes.declared)
+        upside_down = gravity_warning(imu, self.axes.sensor, self.axes.declared)
+        self.warnings += [upside_down] if upside_down else []
         meta = metadata("estimate", estimator=o.estimator, mode="9D" if self.use_mag else "6D")
-        meta.update(heading_metadata(self.use_mag, o.declination, self.calibrations))
+        self.declination = self._declination(imu, path)
+        meta.update(heading_metadata(self.use_mag, self.declination, self.calibrations))
+        if self.place is not None:
+            meta["declination_place"] = self.place.describe()
         meta.update(self.axes.metadata())
         meta.update(output_metadata(o.out, bias=self.cls.estimates_bias, flags=self.cls.reports_flags))
         if o.out.flags:
             meta["heading_free"] = "True where no magnetometer sample has set the heading yet (every row in 6D)"
         return meta
+
+    def _declination(self, imu, path):
+        """The declination in radians: as given, or (``"auto"``) the model's at the log's own place and date."""
+        self.place = None
+        given = self.o.declination
+        if not isinstance(given, str):
+            return given
+        if given != "auto":
+            raise ValueError(f"declination must be radians or 'auto', got {given!r}")
+        if not self.use_mag:
+            raise ValueError("a declination needs the magnetometer (9D): a 6D heading has no north to correct")
+        from ...calibrate import declination
+        from ..position import log_position
+
+        self.place = log_position(path, imu.format if imu.format != "files" else None)
+        if self.place is None:
+            raise ValueError(
+                f"{path} records no GPS position and date (a GPS topic, a Location file): --declination auto "
+                "needs --lat, --lon and --date for it"
+            )
+        p = self.place
+        degrees = float(declination(latitude=p.latitude_deg, longitude=p.longitude_deg, date=p.date, degrees=True))
+        self.warnings.append(f"declination {degrees:.3f}° east (World Magnetic Model at {p.describe()})")
+        return float(np.radians(degrees))
 
     def chunk(self, imu, path, out: Segments, seg: int, chunk) -> dict:
         """The output columns of one chunk of one segment (a new segment starts the estimator afresh)."""
@@ -222,10 +256,10 @@ class _Estimation:
             )
         at_limit = self._at_limit(e, imu, out, chunk)
         q = e.q
-        if o.declination is not None:
+        if self.declination is not None:
             from ...calibrate import to_true_north
 
-            q = to_true_north(q, o.declination, frame=axes.frame)
+            q = to_true_north(q, self.declination, frame=axes.frame)
         cols = _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
         if o.out.flags:
             cols["heading_free"] = free
@@ -266,7 +300,6 @@ class _Estimation:
             parts.append(part(row, n))
         free[row:] = False
         return _joined(parts), free
-
 
     def _at_limit(self, e, imu, out: Segments, chunk):
         """Rows whose bias sits at ``bias_limit``; the first one is named once in the notes."""

@@ -22,8 +22,8 @@ from ._common import (
     input_paths,
     metadata,
     options_of,
-    read_columns,
     output_path,
+    read_columns,
     rows_text,
     with_progress,
 )

@@ -26,7 +26,7 @@ def _gps(path):
 
     d = ULog(str(path), ["vehicle_gps_position"]).data_list[0].data
     utc = d["time_utc_usec"][0] / 1e6
-    return np.median(d["lat"]) * 1e-7, np.median(d["lon"]) * 1e-7, dt.datetime.fromtimestamp(utc, dt.timezone.utc)
+    return np.median(d["lat"]) * 1e-7, np.median(d["lon"]) * 1e-7, dt.datetime.fromtimestamp(utc, dt.UTC)
 
 
 @pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)
@@ -42,7 +42,7 @@ def test_declination_auto_is_the_world_magnetic_models_at_the_logs_place_and_dat
     from pygeomag import GeoMag
 
     lat, lon, when = _gps(log)
-    start = dt.datetime(when.year, 1, 1, tzinfo=dt.timezone.utc)
+    start = dt.datetime(when.year, 1, 1, tzinfo=dt.UTC)
     year = when.year + (when - start).total_seconds() / (365.25 * 86400)
     # the model's own package, directly: the coefficients of the model year that covers the date
     expected = GeoMag(base_year=2020 if year < 2025 else 2025).calculate(glat=lat, glon=lon, alt=0, time=year).d
@@ -76,7 +76,7 @@ def test_declination_auto_asks_for_the_place_only_where_the_log_has_none(tmp_pat
 
 
 def test_a_phone_exports_location_file_gives_its_place_and_date(tmp_path):
-    stamp = int(dt.datetime(2024, 3, 1, 12, tzinfo=dt.timezone.utc).timestamp() * 1e9)
+    stamp = int(dt.datetime(2024, 3, 1, 12, tzinfo=dt.UTC).timestamp() * 1e9)
     rows = [f"{stamp + i * 10**9},{i},{52.5 + i * 1e-5},{13.4},{35}" for i in range(5)]
     (tmp_path / "Location.csv").write_text("time,seconds_elapsed,latitude,longitude,altitude\n" + "\n".join(rows))
     place = export_position(tmp_path)

@@ -66,7 +66,7 @@ def _fixes(lat, lon, alt, utc, source: str, path) -> LogPosition | None:
     good &= np.isfinite(utc) & (utc > 946684800e6)
     if not good.any():
         return None
-    when = _dt.datetime.fromtimestamp(float(utc[good][0]) / 1e6, tz=_dt.timezone.utc).date()
+    when = _dt.datetime.fromtimestamp(float(utc[good][0]) / 1e6, tz=_dt.UTC).date()
     height = float(np.nanmedian(alt[good])) if np.isfinite(alt[good]).any() else float("nan")
     return LogPosition(
         float(np.median(lat[good])), float(np.median(lon[good])), height, when, f"{source}, {int(good.sum())} fixes"
@@ -119,7 +119,7 @@ _LOCATION_NAMES = ("location.csv",)
 
 
 def export_position(path) -> LogPosition | None:
-    """A phone export's place and date from its ``Location.csv`` (epoch-nanosecond ``time``, ``latitude``, ...).
+    r"""A phone export's place and date from its ``Location.csv`` (epoch-nanosecond ``time``, ``latitude``, ...).
 
     Parameters
     ----------
@@ -137,7 +137,7 @@ def export_position(path) -> LogPosition | None:
     >>> from strapdown.io.position import export_position
     >>> folder = pathlib.Path(tempfile.mkdtemp())
     >>> _ = (folder / "Location.csv").write_text(
-    ...     "time,seconds_elapsed,latitude,longitude,altitude\\n1700000000000000000,0,52.5,13.4,35\\n")
+    ...     "time,seconds_elapsed,latitude,longitude,altitude\n1700000000000000000,0,52.5,13.4,35\n")
     >>> export_position(folder).describe()
     '52.50000 N, 13.40000 E on 2023-11-14 (Location.csv, 1 fixes)'
     """
@@ -170,7 +170,7 @@ def export_position(path) -> LogPosition | None:
 
 
 def log_position(path, format: str | None = None) -> LogPosition | None:
-    """Where and when a log was recorded, by its format's reader (the registry's ``position`` field).
+    r"""Where and when a log was recorded, by its format's reader (the registry's ``position`` field).
 
     Parameters
     ----------
@@ -189,7 +189,7 @@ def log_position(path, format: str | None = None) -> LogPosition | None:
     >>> import pathlib, tempfile
     >>> from strapdown.io.position import log_position
     >>> path = pathlib.Path(tempfile.mkdtemp()) / "log.csv"
-    >>> _ = path.write_text("t,gx,gy,gz\\n0,0,0,0\\n")
+    >>> _ = path.write_text("t,gx,gy,gz\n0,0,0,0\n")
     >>> log_position(path) is None          # a table records no position
     True
     """

@@ -106,7 +106,6 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
     (array([0.  , 0.01]), 'qw,qx,qy,qz')
     """
     from .readers import input_format, open_source, read_metadata
-
     from .registry import formats
 
     path = Path(path)

@@ -580,3 +580,34 @@ def test_a_gyro_in_deg_s_read_as_rad_s_is_caught_in_gentle_motion(tmp_path):
     np.testing.assert_allclose(
         read_table(tmp_path / "a.parquet")["roll_deg"][-1000:], np.degrees(roll[-1000:]), atol=0.5
     )
+
+
+def test_an_ardupilot_imu_table_beside_its_mag_table_in_milligauss(tmp_path):
+    """ArduPilot's IMU and MAG messages exported to CSV: TimeUS (µs since boot), GyrX.., AccX.., MagX.. in mG."""
+    c = still(600)
+    us = (c["t"] * 1e6).astype(np.int64) + 1234567
+    imu = {
+        "TimeUS": us,
+        **{f"Gyr{a.upper()}": c[f"g{a}"] for a in "xyz"},
+        **{f"Acc{a.upper()}": c[f"a{a}"] for a in "xyz"},
+    }
+    write_table(tmp_path / "IMU.csv", imu)
+    write_table(
+        tmp_path / "MAG.csv", {"TimeUS": us[100::5], **{f"Mag{a.upper()}": 10 * c[f"m{a}"][100::5] for a in "xyz"}}
+    )
+    files = (
+        tmp_path / "IMU.csv",
+        tmp_path / "MAG.csv",
+        "--body",
+        "FRD",
+        "--frame",
+        "NED",
+        "-o",
+        tmp_path / "a.parquet",
+    )
+    res = run("estimate", *files)
+    assert res.returncode == 1 and "MAG.csv" in res.stderr and "--mag-unit mG" in res.stderr
+    ok("estimate", *files, "--mag-unit", "mG")
+    table = read_table(tmp_path / "a.parquet")
+    np.testing.assert_allclose(table["t"][:3], [0.0, 0.01, 0.02], atol=1e-12)  # TimeUS read as µs
+    assert abs(signed(table["yaw_deg"][-1])) < 0.1 and abs(table["roll_deg"][-1]) < 0.1

@@ -56,6 +56,8 @@ _STEMS = {
     "mag": ("mag", "magnetometer", "m", "b", "magneticfield", "field"),
 }
 _TIME = ("t", "time", "times", "timestamp", "timestamps", "ts", "sec", "seconds", "timesec", "stamp")
+# a unit glued to the name without a separator: ArduPilot's TimeUS (and TimeMS of older logs)
+_GLUED_TIME = {"timeus": "us", "timems": "ms"}
 _RATE = ("rate", "samplingrate", "samplerate", "fs", "frequency", "freq", "ratehz", "samplingfrequency", "hz")
 _AXES = "xyz"
 _KINDS = ("gyro", "acc", "mag", "time")
@@ -265,11 +267,15 @@ def detect_time(fields: Mapping[str, int]) -> Pick | None:
     >>> from strapdown.io.columns import detect_time
     >>> detect_time({"timestamp_ms": 1, "gx": 1})
     Pick(fields=('timestamp_ms',), unit_hint='ms')
+    >>> detect_time({"TimeUS": 1, "GyrX": 1})                   # ArduPilot's
+    Pick(fields=('TimeUS',), unit_hint='us')
     """
     found = []
     for name, w in fields.items():
         base, unit = split_name(name, "time")
-        if w == 1 and base in _TIME:
+        if w == 1 and base in _GLUED_TIME and unit is None:
+            found.append(Pick((name,), _GLUED_TIME[base]))
+        elif w == 1 and base in _TIME:
             found.append(Pick((name,), unit))
     if len(found) > 1:
         raise ValueError(f"several columns look like time: {', '.join(p.label for p in found)}; choose with --time")

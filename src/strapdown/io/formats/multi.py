@@ -169,12 +169,16 @@ def read_streams(src: Source, kind: str | None = None, time: str | None = None, 
 
     Examples
     --------
+    An ArduPilot IMU table exported to CSV holds the gyro and the accelerometer:
+
     >>> import pathlib, tempfile
     >>> from strapdown.io import open_source
     >>> from strapdown.io.formats.multi import read_streams
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "IMU.csv"
-    >>> _ = path.write_text("TimeUS,GyrX,GyrY,GyrZ,AccX,AccY,AccZ\n1000,0,0,0.1,0,0,-9.8\n3500,0,0,0.1,0,0,-9.8\n")
-    >>> [(s.kind, s.fields) for s in read_streams(open_source(path))]
+    >>> rows = "TimeUS,GyrX,GyrY,GyrZ,AccX,AccY,AccZ\n1000,0,0,0.1,0,0,-9.8\n3500,0,0,0.1,0,0,-9.8\n"
+    >>> (path := pathlib.Path(tempfile.mkdtemp()) / "IMU.csv").write_text(rows) > 0
+    True
+    >>> with open_source(path) as src:
+    ...     print([(s.kind, s.fields) for s in read_streams(src)])
     [('gyro', ('GyrX', 'GyrY', 'GyrZ')), ('acc', ('AccX', 'AccY', 'AccZ'))]
     """
     fields = src.fields

@@ -106,13 +106,13 @@ def plot_file(
     """
     path = Path(path)
     out = path.parent if out is None else Path(out)
-    names = names or (path.name, None if truth is None else Path(truth).name)
     figures = _file_figures(path, truth, angles or Angles(), max_points, format, names)
     return save_figures({out / f"{path.stem}_{name}.png": fig for name, fig in figures.items()})
 
 
-def _file_figures(path: Path, truth, angles: Angles, max_points: int, format, names: tuple) -> dict:
+def _file_figures(path: Path, truth, angles: Angles, max_points: int, format, names: tuple | None = None) -> dict:
     """The figures of :func:`plot_file` by name ("angles", "errors", "bias"), nothing written."""
+    names = names or (path.name, None if truth is None else Path(truth).name)
     plt = pyplot()
     with open_source(path, format) as src:
         fields = dict(src.fields)

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from strapdown.io import read_metadata, read_table
-from strapdown.io.position import export_position, log_position
+from strapdown.io.position import export_position
+from strapdown.io.reference import log_position
 
 pytest.importorskip("pyulog")
 pytest.importorskip("pygeomag")

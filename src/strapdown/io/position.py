@@ -1,8 +1,8 @@
 """Where and when a log was recorded, from its own GPS: for ``--declination auto`` without ``--lat/--lon/--date``.
 
 Each input format may say how to read it (the ``position`` field of :class:`strapdown.io.formats.base.Format`);
-:func:`log_position` asks the registry, so a format that fills the field (ArduPilot's GPS, a ROS ``NavSatFix``)
-is read the same way.  The readers here:
+:func:`strapdown.io.reference.log_position` asks the registry, so a format that fills the field (ArduPilot's
+GPS, a ROS ``NavSatFix``) is read the same way.  The readers here:
 
 * PX4 ULog: ``vehicle_gps_position`` or ``sensor_gps`` (``lat``/``lon`` in 1e-7 degrees and ``alt`` in mm, or
   the newer ``latitude_deg``/``longitude_deg``/``altitude_msl_m``), the date from ``time_utc_usec``;
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["LogPosition", "export_position", "log_position", "ulog_position"]
+__all__ = ["LogPosition", "export_position", "ulog_position"]
 
 
 @dataclass(frozen=True)
@@ -167,42 +167,3 @@ def export_position(path) -> LogPosition | None:
 
     utc = column("time") / 1e3  # ns -> µs
     return _fixes(column("latitude"), column("longitude"), column("altitude"), utc, "Location.csv", path)
-
-
-def log_position(path, format: str | None = None) -> LogPosition | None:
-    r"""Where and when a log was recorded, by its format's reader (the registry's ``position`` field).
-
-    Parameters
-    ----------
-    path : path-like
-        The input.
-    format : str, optional
-        Its format, when the suffix does not tell it.
-
-    Returns
-    -------
-    LogPosition or None
-        None when the format records no position, or this log holds no fix.
-
-    Examples
-    --------
-    >>> import pathlib, tempfile
-    >>> from strapdown.io.position import log_position
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "log.csv"
-    >>> _ = path.write_text("t,gx,gy,gz\n0,0,0,0\n")
-    >>> log_position(path) is None          # a table records no position
-    True
-    """
-    from .readers import input_format
-    from .registry import formats
-
-    if isinstance(path, list | tuple):
-        return None  # several files: no format records a position for them
-    fmt = formats().get(input_format(Path(path), format))
-    reader = getattr(fmt, "position", None)
-    if reader is None:
-        return None
-    found = reader(Path(path))
-    if found is None or isinstance(found, LogPosition):
-        return found
-    return LogPosition(**found)  # a format's reader may give the fields as a dict

@@ -5,7 +5,7 @@ The log's attitude (PX4 ``vehicle_attitude``, ArduPilot ATT, a ROS ``Imu`` orien
 (:func:`~strapdown.io.pipelines.truth.align_truth`: re-expressed when the frames differ, slerped onto the
 estimate's times), and :func:`strapdown.evaluate.compare.reference_errors` tells total, inclination and heading
 apart, the heading's constant offset from what varies about it.  The declination at the log's place and date
-(its GPS, :func:`strapdown.io.position.log_position`, and the World Magnetic Model when the ``geomag`` extra is
+(its GPS, :func:`strapdown.io.reference.log_position`, and the World Magnetic Model when the ``geomag`` extra is
 installed) says how much of that offset is magnetic against true north: our magnetic heading is the true one
 minus D, unless the estimate was turned to true north (``--declination``, recorded in its metadata).
 """
@@ -81,7 +81,7 @@ def _declination(log, meta: dict) -> tuple[float | None, list]:
         ]
     try:
         from ...calibrate import declination
-        from ..position import log_position
+        from ..reference import log_position
 
         place = log_position(Path(log))
         if place is None:

@@ -78,7 +78,7 @@ class EstimateOptions(FileOptions):
     declination : float or "auto", optional
         Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
         ``"auto"``: the World Magnetic Model's at the place and date the log records (its GPS:
-        :func:`strapdown.io.position.log_position`; the ``geomag`` extra), named in the notes and the metadata;
+        :func:`strapdown.io.reference.log_position`; the ``geomag`` extra), named in the notes and the metadata;
         a ValueError when the log records none.
         The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
 
@@ -217,7 +217,7 @@ class _Estimation:
         if not self.use_mag:
             raise ValueError("a declination needs the magnetometer (9D): a 6D heading has no north to correct")
         from ...calibrate import declination
-        from ..position import log_position
+        from ..reference import log_position
 
         self.place = log_position(path, imu.format if imu.format != "files" else None)
         if self.place is None:

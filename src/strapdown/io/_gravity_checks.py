@@ -90,7 +90,7 @@ def check_gyro_tilt(gyro, acc, t, unit: str, block: float = 0.25) -> str | None:
     """A message when the gyro tilts the body much further than the accelerometer sees it tilt, in motion too.
 
     Gravity's direction u in the body turns as du/dt = -ω × u, so over a block of time Δt the gyro turns it by
-    |ω̄ × u| Δt (ω̄ the mean rate over the block), while the accelerometer's mean over consecutive blocks shows
+    ‖ω̄ × u‖ Δt (ω̄ the mean rate over the block), while the accelerometer's mean over consecutive blocks shows
     the angle it actually turned (plus what linear acceleration adds).  Summed over the blocks, a gyro tilt of 20
     to 200 times the accelerometer's, once that is 10° or more, is deg/s read as rad/s (57 times too far).
     :func:`check_gyro_at_rest` judges a still body; this one the first rows in motion (:func:`probe`).

@@ -208,7 +208,7 @@ def test_split_checks_time_across_part_boundaries_as_integrate_does(tmp_path, na
         t[row:] += dt
     path, _ = _gyro_log(tmp_path / name, t)
     with pytest.raises(ValueError) as whole:
-        integrate_file(path, tmp_path / "whole.csv")
+        integrate_file(path, tmp_path / "whole.csv", on_gap="error")  # a split run stops at gaps
     assert where in str(whole.value)
     with pytest.raises(ValueError) as split:
         integrate_split(path, tmp_path / "split.csv", parts=4, workers=1, chunk_rows=1000)
@@ -247,7 +247,8 @@ def test_split_output_carries_the_metadata_of_integrate(tmp_path, method):
 
     path, _ = _gyro_log(tmp_path / "g.parquet", np.arange(3000) * 0.01)
     common = {"method": method, "input": "average", "rate_frame": "reference"}
-    whole = integrate_file(path, tmp_path / "whole.parquet", **common)
+    # a split run stops at gaps: the metadata of integrate with on_gap="error" (no gap or segment column)
+    whole = integrate_file(path, tmp_path / "whole.parquet", on_gap="error", **common)
     split = integrate_split(path, tmp_path / "split.parquet", parts=3, workers=1, **common)
     expected = pq.read_schema(whole.output).metadata
     assert expected[b"strapdown_command"] == b"integrate" and expected[b"input"] == b"average"

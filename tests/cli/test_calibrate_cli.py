@@ -2,6 +2,7 @@
 layout of strapdown's own files; the truth is exact)."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -97,7 +98,7 @@ def test_refusals_reach_the_command_line(recording, tmp_path):
     result = CliRunner().invoke(_build(), ["calibrate", "acc", str(path), "-o", str(tmp_path / "a.json")])
     assert result.exit_code == 1 and "no rest found in acc: hold the sensor still" in result.output
     result = CliRunner().invoke(_build(), ["estimate", str(path), "--declination", "auto", "--lat", "52"])
-    assert result.exit_code != 0 and "auto needs --lat, --lon and --date" in result.output
+    assert result.exit_code != 0 and "auto takes --lat, --lon and --date together" in result.output
     result = CliRunner().invoke(_build(), ["estimate", str(path), "--6d", "--declination", "3"])
     assert result.exit_code == 1 and "needs the magnetometer" in result.output
 
@@ -157,3 +158,32 @@ def test_a_calibration_fitted_in_other_axes_is_refused(recording, tmp_path):
     assert not (tmp_path / "x.parquet").exists()
     # the same file with its axes declared as the calibration's goes through
     run(["estimate", path, "--body", "FRD", "-o", tmp_path / "y.parquet", "--calibration", cal, "-q"])
+
+
+def test_calibrate_mag_takes_a_gap_with_a_warning_and_honours_on_gap_error(recording, tmp_path):
+    path, _ = recording
+    table = read_table(path)
+    keep = np.ones(len(table["t"]), dtype=bool)
+    keep[3000:3300] = False  # 3 s without samples: 301 periods
+    gapped = write_table(tmp_path / "gapped.csv", {k: np.asarray(v)[keep] for k, v in table.items()})
+    result = CliRunner().invoke(_build(), ["calibrate", "mag", str(gapped), "-o", str(tmp_path / "a.json")])
+    assert result.exit_code == 0, result.output
+    assert "warning:" in result.output and "1 gap(s)" in result.output
+    entry = json.loads((tmp_path / "a.json").read_text())["calibrations"][0]
+    np.testing.assert_allclose(entry["offset"], [40.0, -25.0, 30.0], atol=0.3)  # the samples on both sides
+    strict = ["calibrate", "mag", str(gapped), "-o", str(tmp_path / "b.json"), "--on-gap", "error"]
+    result = CliRunner().invoke(_build(), strict)
+    assert result.exit_code == 1 and "a gap of 3.01 s" in result.output and not (tmp_path / "b.json").exists()
+
+
+def test_calibrate_mag_on_a_ulog_takes_its_densest_magnetometer_topic():
+    pytest.importorskip("pyulog")
+    from pyulog import ULog
+
+    from strapdown.cli.calibrate import _mag_topic
+
+    log = Path(__file__).resolve().parents[1] / "data" / "px4" / "sample_log_small.ulg"
+    counts = {d.name: len(d.data["timestamp"]) for d in ULog(str(log)).data_list if d.multi_id == 0}
+    densest = max(("sensor_mag", "vehicle_magnetometer"), key=counts.get)
+    assert _mag_topic(log, {}, ("mag",))["mag_topic"] == densest
+    assert _mag_topic(log, {"mag_topic": "sensor_mag"}, ("mag",))["mag_topic"] == "sensor_mag"  # as given

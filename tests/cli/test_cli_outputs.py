@@ -229,10 +229,54 @@ def _with_gap(tmp_path):
     return write_table(tmp_path / "gap.parquet", cols), cols
 
 
-def test_a_gap_stops_estimate_by_default(tmp_path):
+def test_a_gap_stops_estimate_with_on_gap_error(tmp_path):
     src, _ = _with_gap(tmp_path)
-    res = run("estimate", src, "--body", "FRD")
-    assert res.returncode == 1 and "gap of 5.01 s" in res.stderr and "--on-gap" not in res.stdout
+    res = run("estimate", src, "--body", "FRD", "--on-gap", "error")
+    assert res.returncode == 1 and "gap of 5.01 s" in res.stderr and "--on-gap bridge" in res.stderr
+    assert not (tmp_path / "gap.estimate.csv").exists()
+
+
+def test_a_long_gap_restarts_estimate_by_default_with_a_warning(tmp_path):
+    src, _ = _with_gap(tmp_path)
+    res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--frame", "NED")
+    # a quiet gyro bridges up to 1 deg / (0.5 deg/s + noise): with this file's 1e-4 rad/s of noise 1.98 s; 5 s
+    # is longer, so the run starts afresh
+    limit = np.radians(1.0) / (np.radians(0.5) + 1e-4)
+    assert (
+        "warning: 1 gap(s)" in res.stderr
+        and f"longer than {limit:.3g} s" in res.stderr
+        and "--on-gap error" in res.stderr
+    )
+    table = read_table(tmp_path / "att.parquet")
+    np.testing.assert_array_equal(table["segment"], np.repeat([0, 1], 300))
+    assert not table["gap"].any()
+    assert abs(table["roll_deg"][300] - 30.0) < 0.1
+
+
+def test_a_short_gap_is_bridged_by_default_with_a_gap_column(tmp_path):
+    first = still(300)
+    second = still(300, t0=3.5, seed=1)  # 0.5 s without samples: 51 periods, within the 2 s bridge
+    cols = {k: np.concatenate([first[k], second[k]]) for k in first}
+    src = write_table(tmp_path / "short.parquet", cols)
+    res = ok("estimate", src, "-o", tmp_path / "att.parquet", "--body", "FRD", "--frame", "NED")
+    assert "1 gap(s) over 10 sample periods bridged" in res.stderr and "2.99 s -> 3.5 s" in res.stderr
+    table = read_table(tmp_path / "att.parquet")
+    assert np.flatnonzero(table["gap"]).tolist() == [300]  # the first row after the gap
+    assert (table["segment"] == 0).all()
+    # the same run with the gap restarting it: bridged, the estimator's state (here its heading) carries over
+    ok("estimate", src, "-o", tmp_path / "r.parquet", "--body", "FRD", "--frame", "NED", "--on-gap", "restart")
+    assert (read_table(tmp_path / "r.parquet")["segment"] == np.repeat([0, 1], 300)).all()
+    # --bridge sets the limit: 0.1 s restarts this gap
+    ok("estimate", src, "-o", tmp_path / "b.parquet", "--body", "FRD", "--frame", "NED", "--bridge", "0.1")
+    assert read_table(tmp_path / "b.parquet")["segment"][-1] == 1
+
+
+def test_a_plausibility_check_comes_before_the_gap_refusal(tmp_path):
+    src, cols = _with_gap(tmp_path)
+    cols = {**cols, "ax": cols["ax"] / G, "ay": cols["ay"] / G, "az": cols["az"] / G}  # g declared m/s2
+    src = write_table(tmp_path / "g.parquet", cols)
+    res = run("estimate", src, "--body", "FRD", "--on-gap", "error")
+    assert res.returncode == 1 and "--acc-unit g" in res.stderr and "gap" not in res.stderr
 
 
 def test_on_gap_restart_starts_the_estimator_afresh_in_one_file(tmp_path):
@@ -424,3 +468,146 @@ def test_an_integration_of_a_px4_log_plots_against_its_own_attitude(tmp_path):
     res = ok("plot", tmp_path / "int.parquet", "--truth", PX4_LOG, "--out", tmp_path / "fig")
     assert "not checked" in res.stderr and "interpolated" in res.stderr
     assert (tmp_path / "fig" / "int_errors.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_one_file_with_gyro_and_acc_beside_a_later_magnetometer_file(tmp_path):
+    """An ArduPilot-style IMU table (gyro and accelerometer in one file) and a MAG file that starts 2 s later."""
+    cols = still(600)
+    write_table(tmp_path / "IMU.csv", {k: cols[k] for k in ("t", "gx", "gy", "gz", "ax", "ay", "az")})
+    write_table(tmp_path / "MAG.csv", {"t": cols["t"][200::4], **{k: cols[k][200::4] for k in ("mx", "my", "mz")}})
+    out = tmp_path / "att.parquet"
+    ok("estimate", tmp_path / "IMU.csv", tmp_path / "MAG.csv", "-o", out, "--body", "FRD", "--frame", "NED")
+    table = read_table(out)
+    free = np.asarray(table["heading_free"], dtype=bool)
+    # the heading is free up to the first field's row (200); the field sets it, which shows from the next row
+    np.testing.assert_array_equal(free, np.arange(600) <= 200)
+    assert abs(signed(table["yaw_deg"][201])) < 0.1  # facing north, once the field has been read
+    # 6D: every row's heading is free
+    ok("estimate", tmp_path / "IMU.csv", "-o", out, "--body", "FRD", "--frame", "NED")
+    assert np.asarray(read_table(out)["heading_free"], dtype=bool).all()
+
+
+def _phone(tmp_path, **acc_changes):
+    cols = still(600)
+    write_table(tmp_path / "Gyroscope.csv", {"time": cols["t"], "x": cols["gx"], "y": cols["gy"], "z": cols["gz"]})
+    acc = {"time": cols["t"][::2], "x": cols["ax"][::2], "y": cols["ay"][::2].copy(), "z": cols["az"][::2]}
+    acc.update(acc_changes)
+    write_table(tmp_path / "Accelerometer.csv", acc)
+    return run("estimate", tmp_path / "Gyroscope.csv", tmp_path / "Accelerometer.csv", "-o", tmp_path / "a.csv")
+
+
+def test_a_problem_in_one_file_of_a_recording_names_that_file_and_its_line(tmp_path):
+    y = still(600)["ay"][::2].copy()
+    y[50] = np.nan
+    res = _phone(tmp_path, y=y)
+    # data row 50 of Accelerometer.csv is its line 52 (line 1 the header)
+    assert res.returncode == 1 and f"{tmp_path / 'Accelerometer.csv'}: NaN or empty values at line 52" in res.stderr
+    assert "Gyroscope.csv:" not in res.stderr
+    cols = still(600)
+    res = _phone(tmp_path, **{a: cols[f"a{a}"][::2] / G for a in "xyz"})  # in g, declared m/s2
+    assert res.returncode == 1 and "Accelerometer.csv: |acc| is about 1 m/s2" in res.stderr
+    assert "Gyroscope.csv:" not in res.stderr
+
+
+def test_a_file_without_a_header_row_is_named_so_and_read_by_column_numbers(tmp_path):
+    cols = still(600)
+    rows = np.column_stack([cols[k] for k in ("t", "gx", "gy", "gz", "ax", "ay", "az")])
+    np.savetxt(tmp_path / "vendor.csv", rows, delimiter=",", fmt="%.9f")
+    res = run("estimate", tmp_path / "vendor.csv", "-o", tmp_path / "a.csv")
+    assert res.returncode == 1 and "vendor.csv has no header row" in res.stderr and "--gyro 2,3,4" in res.stderr
+    out = tmp_path / "a.parquet"
+    numbers = ("--time", "1", "--gyro", "2,3,4", "--acc", "5,6,7", "--body", "FRD", "--frame", "NED")
+    ok("estimate", tmp_path / "vendor.csv", "-o", out, *numbers)
+    table = read_table(out)
+    assert table["t"].size == 600 and abs(table["roll_deg"][-1]) < 0.1  # its first line is data, level
+    # beside a headerless MAG file: FILE:COLS says which file holds what
+    mag = np.column_stack([cols[k] for k in ("t", "mx", "my", "mz")])
+    np.savetxt(tmp_path / "MAG.csv", mag, delimiter=",", fmt="%.9f")
+    picks = ("--gyro", "vendor.csv:2,3,4", "--acc", "vendor.csv:5,6,7", "--mag", "MAG.csv:2,3,4", "--time", "1")
+    ok("estimate", tmp_path / "vendor.csv", tmp_path / "MAG.csv", "-o", out, "--body", "FRD", "--frame", "NED", *picks)
+    assert abs(signed(read_table(out)["yaw_deg"][-1])) < 0.1
+    res = run("estimate", tmp_path / "vendor.csv", tmp_path / "MAG.csv", "--gyro", "other.csv:2,3,4")
+    assert res.returncode == 1 and "other.csv is none of the inputs (vendor.csv, MAG.csv)" in res.stderr
+
+
+def test_file_cols_picks_one_of_two_files_that_both_hold_a_sensor(tmp_path):
+    cols = still(600)
+    write_table(tmp_path / "IMU.csv", {k: cols[k] for k in ("t", "gx", "gy", "gz", "ax", "ay", "az")})
+    # a second IMU table (a second instance): both hold gyro and accelerometer columns
+    write_table(tmp_path / "IMU2.csv", {"t": cols["t"], "GyrX": cols["gx"], "GyrY": cols["gy"], "GyrZ": cols["gz"]})
+    res = run("integrate", tmp_path / "IMU.csv", tmp_path / "IMU2.csv", "-o", tmp_path / "a.csv")
+    assert res.returncode == 1 and "both hold gyro readings" in res.stderr and "--gyro IMU" in res.stderr
+    ok(
+        "integrate",
+        tmp_path / "IMU.csv",
+        tmp_path / "IMU2.csv",
+        "-o",
+        tmp_path / "a.csv",
+        "--gyro",
+        "IMU2.csv:GyrX,GyrY,GyrZ",
+    )
+
+
+def test_frd_data_read_in_the_default_flu_axes_is_warned_with_the_body_that_fits(tmp_path):
+    src = write_table(tmp_path / "frd.csv", still(600))  # level FRD: gravity reads -z, up in FRD
+    res = ok("estimate", src, "-o", tmp_path / "a.parquet")
+    assert "warning:" in res.stderr and "reads gravity downward" in res.stderr and "pass --body FRD" in res.stderr
+    assert abs(abs(signed(read_table(tmp_path / "a.parquet")["roll_deg"][-1])) - 180.0) < 0.5  # as warned
+    res = ok("estimate", src, "-o", tmp_path / "a.parquet", "--body", "FRD")
+    assert "warning:" not in res.stderr and abs(read_table(tmp_path / "a.parquet")["roll_deg"][-1]) < 0.1
+
+
+def test_a_magnetometer_in_milligauss_is_caught_and_accepted(tmp_path):
+    cols = still(600)
+    for unit, factor in (("mG", 10.0), ("gauss", 0.01)):  # 1 uT = 10 mG = 0.01 gauss
+        src = write_table(tmp_path / f"{unit}.csv", {**cols, **{f"m{a}": cols[f"m{a}"] * factor for a in "xyz"}})
+        res = run("estimate", src, "--body", "FRD", "-o", tmp_path / "a.csv")
+        assert res.returncode == 1 and f"look like {unit}" in res.stderr and f"--mag-unit {unit}" in res.stderr
+        ok("estimate", src, "--body", "FRD", "--frame", "NED", "--mag-unit", unit, "-o", tmp_path / "a.parquet")
+        assert abs(signed(read_table(tmp_path / "a.parquet")["yaw_deg"][-1])) < 0.1  # facing north
+
+
+def test_a_gyro_in_deg_s_read_as_rad_s_is_caught_in_gentle_motion(tmp_path):
+    t = np.arange(4000) / 100.0
+    roll = np.radians(30.0) * np.sin(2 * np.pi * 0.15 * t)  # peak 28 deg/s: "28 rad/s" is within a gyro's range
+    rate = np.radians(30.0) * 2 * np.pi * 0.15 * np.cos(2 * np.pi * 0.15 * t)
+    cols = {"t": t, "gx": np.degrees(rate), "gy": 0 * t, "gz": 0 * t}
+    cols.update(ax=0 * t, ay=G * np.sin(roll), az=G * np.cos(roll))  # FLU
+    src = write_table(tmp_path / "deg.csv", cols)
+    res = run("estimate", src, "-o", tmp_path / "a.csv")
+    assert res.returncode == 1 and "the values look like deg/s" in res.stderr and "--gyro-unit deg/s" in res.stderr
+    ok("estimate", src, "--gyro-unit", "deg/s", "-o", tmp_path / "a.parquet")
+    np.testing.assert_allclose(
+        read_table(tmp_path / "a.parquet")["roll_deg"][-1000:], np.degrees(roll[-1000:]), atol=0.5
+    )
+
+
+def test_an_ardupilot_imu_table_beside_its_mag_table_in_milligauss(tmp_path):
+    """ArduPilot's IMU and MAG messages exported to CSV: TimeUS (µs since boot), GyrX.., AccX.., MagX.. in mG."""
+    c = still(600)
+    us = (c["t"] * 1e6).astype(np.int64) + 1234567
+    imu = {
+        "TimeUS": us,
+        **{f"Gyr{a.upper()}": c[f"g{a}"] for a in "xyz"},
+        **{f"Acc{a.upper()}": c[f"a{a}"] for a in "xyz"},
+    }
+    write_table(tmp_path / "IMU.csv", imu)
+    write_table(
+        tmp_path / "MAG.csv", {"TimeUS": us[100::5], **{f"Mag{a.upper()}": 10 * c[f"m{a}"][100::5] for a in "xyz"}}
+    )
+    files = (
+        tmp_path / "IMU.csv",
+        tmp_path / "MAG.csv",
+        "--body",
+        "FRD",
+        "--frame",
+        "NED",
+        "-o",
+        tmp_path / "a.parquet",
+    )
+    res = run("estimate", *files)
+    assert res.returncode == 1 and "MAG.csv" in res.stderr and "--mag-unit mG" in res.stderr
+    ok("estimate", *files, "--mag-unit", "mG")
+    table = read_table(tmp_path / "a.parquet")
+    np.testing.assert_allclose(table["t"][:3], [0.0, 0.01, 0.02], atol=1e-12)  # TimeUS read as µs
+    assert abs(signed(table["yaw_deg"][-1])) < 0.1 and abs(table["roll_deg"][-1]) < 0.1

@@ -160,3 +160,52 @@ def test_estimate_refuses_a_1e300_magnetometer_value_with_its_line(tmp_path):
     assert res.returncode != 0 and "Traceback" not in res.stderr and "RuntimeWarning" not in res.stderr
     assert "mag.csv: line 100, column 'mx': the magnetometer reads 1e+300 uT" in res.stderr
     assert not (tmp_path / "out.csv").exists()
+
+
+def _rolling(amplitude_deg=10.0, hz=0.1, seconds=40.0, rate=100.0):
+    """A body rolling back and forth about x in FLU axes: the rate and the specific force, in closed form."""
+    t = np.arange(int(seconds * rate)) / rate
+    roll = np.radians(amplitude_deg) * np.sin(2 * np.pi * hz * t)
+    rate_x = np.radians(amplitude_deg) * 2 * np.pi * hz * np.cos(2 * np.pi * hz * t)
+    acc = 9.81 * np.column_stack([0 * t, np.sin(roll), np.cos(roll)])  # gravity's up, in the body
+    return t, np.column_stack([rate_x, 0 * t, 0 * t]), acc
+
+
+def test_the_gyro_tilt_check_takes_deg_s_read_as_rad_s_in_motion():
+    from strapdown.io.plausibility import check_gyro_tilt
+
+    t, gyro, acc = _rolling()
+    assert check_gyro_tilt(gyro, acc, t, "rad/s") is None
+    noisy = acc + np.random.default_rng(1).normal(0.0, 1.0, acc.shape)  # linear acceleration adds to what is seen
+    assert check_gyro_tilt(gyro, noisy, t, "rad/s") is None
+    # peak 6.3 deg/s: as rad/s under the 35 rad/s of the range check, so only the tilt tells
+    assert np.degrees(gyro).max() < 35.0 and check_plausible("gyro", np.degrees(gyro), "rad/s") is None
+    message = check_gyro_tilt(np.degrees(gyro), acc, t, "rad/s")
+    assert "--gyro-unit deg/s" in message
+    ratio = float(message.split(", ")[1].split(" times")[0])
+    assert 50 < ratio < 60  # 180/pi
+
+
+def test_the_gyro_tilt_check_leaves_a_coordinated_turn_alone():
+    """Banked at 20 deg and turning, the apparent gravity stays on the body's z while the gyro tilts it."""
+    from strapdown.io.plausibility import check_gyro_tilt
+
+    t = np.arange(4000) / 100.0
+    bank, turn = np.radians(20.0), 0.3  # rad/s about the vertical
+    gyro = np.tile([0.0, turn * np.sin(bank), turn * np.cos(bank)], (t.size, 1))
+    acc = np.tile([0.0, 0.0, 9.81 / np.cos(bank)], (t.size, 1))
+    assert check_gyro_tilt(gyro, acc, t, "rad/s") is None
+
+
+def test_flipped_body_reads_gravity_the_other_way():
+    from strapdown.io.plausibility import check_gravity_sign, flipped_body
+    from strapdown.rotations.frames import frame_matrix
+
+    for body in ("FRD", "FLU", "RFU", "LBU"):
+        other = flipped_body(body)
+        m = frame_matrix(body, other)  # a rotation between right-handed axes
+        np.testing.assert_allclose(m @ m.T, np.eye(3), atol=1e-12)
+        assert np.isclose(np.linalg.det(m), 1.0)
+        down = np.tile([0.0, 0.0, 9.81 if body[2] == "D" else -9.81], (20, 1))  # gravity downward in body
+        assert check_gravity_sign(down, body) is not None
+        assert check_gravity_sign(down, other) is None  # the same numbers, taken in the other axes

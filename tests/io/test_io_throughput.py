@@ -111,9 +111,8 @@ def test_float32_columns_are_stored_as_float32(tmp_path, log):
 
     path = integrate_file(log, tmp_path / "32.parquet", out=OutputSpec(float32=True)).output
     types = {f.name: str(f.type) for f in pq.read_schema(path)}
-    assert types == {"t": "double", **dict.fromkeys(["qw", "qx", "qy", "qz"], "float")} | dict.fromkeys(
-        ["yaw_deg", "pitch_deg", "roll_deg"], "float"
-    )
+    angles = {"t": "double", **dict.fromkeys(["qw", "qx", "qy", "qz", "yaw_deg", "pitch_deg", "roll_deg"], "float")}
+    assert types == {**angles, "gap": "bool", "segment": "int32"}  # the default on_gap's gap and segment columns
     wide = integrate_file(log, tmp_path / "64.parquet").output
     # 7 of the 8 columns halved: the file shrinks to about (1 + 7/2) / 8 of the float64 one
     assert path.stat().st_size < 0.7 * wide.stat().st_size

@@ -63,10 +63,17 @@ def read_options(f, *, acc: bool = True, mag: bool = True):
     import click
 
     opts = [
-        click.option("--gyro", metavar="COLS", help="Gyro columns: gx,gy,gz or one (N, 3) array (default: detected)."),
-        click.option("--acc", metavar="COLS", help="Accelerometer columns (default: detected).") if acc else None,
-        click.option("--mag", metavar="COLS", help="Magnetometer columns (default: detected).") if mag else None,
-        click.option("--time", "time_col", metavar="COL", help="Time column (default: t, time, timestamp, ...)."),
+        click.option(
+            "--gyro",
+            metavar="[FILE:]COLS",
+            help="Gyro columns: gx,gy,gz, one (N, 3) array, or numbers (2,3,4) in a file without a header; FILE: "
+            "which of several inputs holds them (default: detected in each file).",
+        ),
+        click.option("--acc", metavar="[FILE:]COLS", help="Accelerometer columns (as --gyro).") if acc else None,
+        click.option("--mag", metavar="[FILE:]COLS", help="Magnetometer columns (as --gyro).") if mag else None,
+        click.option(
+            "--time", "time_col", metavar="[FILE:]COL", help="Time column (default: t, time, timestamp, ...)."
+        ),
         click.option("--rate", type=float, metavar="HZ", help="Sample rate, for files without a time column."),
         unit_option("gyro", "rad/s"),
         unit_option("acc", "m/s2") if acc else None,
@@ -81,8 +88,17 @@ def read_options(f, *, acc: bool = True, mag: bool = True):
         ),
         choice_option(
             "--on-gap",
-            choices=("error", "split", "restart"),
-            help="At a gap over --max-gap: stop; write a file per segment; or start afresh, with a segment column.",
+            choices=("auto", "error", "split", "restart", "bridge"),
+            help="At a gap over --max-gap: bridge the short ones and start afresh after the long ones (auto, each "
+            "with a warning and a gap or segment column); stop; write a file per segment; start afresh after "
+            "every gap; or bridge every gap.",
+        ),
+        click.option(
+            "--bridge",
+            type=click.FloatRange(min=0),
+            metavar="S",
+            help="With --on-gap auto: the longest gap bridged, s (default: from the gyro's noise and bias, about "
+            "2 s for a quiet gyro).",
         ),
         click.option("--no-unit-check", is_flag=True, help="Do not check that magnitudes fit the units."),
         click.option("--topic", metavar="NAME", help="Bag or log topic of the IMU (listed when ambiguous)."),

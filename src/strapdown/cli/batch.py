@@ -98,7 +98,7 @@ def _batch(ctx, pattern, command, args, out, workers, scheduler, split, quiet) -
     fmt = params.get("out_format")
     if split is not None and command != "integrate":
         raise click.UsageError("--split works with integrate only")
-    if split is not None and kwargs.get("on_gap", "error") != "error":
+    if split is not None and kwargs.get("on_gap", "auto") not in ("auto", "error"):
         raise click.UsageError("--split stops at gaps: leave out --on-gap")
     if split is not None and split < 1:
         raise click.UsageError(f"--split takes a positive number of parts, got {split}")

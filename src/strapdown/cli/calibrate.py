@@ -7,13 +7,45 @@ import click
 from ._options import columns_spec, input_argument, read_options
 
 
+def _mag_topic(path, p: dict, require: tuple) -> dict:
+    """For a ULog's magnetometer fit without --mag-topic: the denser of ``sensor_mag`` and ``vehicle_magnetometer``.
+
+    A fit wants every reading: some logs keep the raw ``sensor_mag`` at the sensor's rate and the fused
+    ``vehicle_magnetometer`` at a few readings, others the other way round.
+    """
+    from pathlib import Path
+
+    if "mag" not in require or p.get("mag_topic") or Path(path).suffix.lower() not in (".ulg", ".ulog"):
+        return p
+    try:
+        from pyulog import ULog
+    except ImportError:
+        return p
+    topics = ("sensor_mag", "vehicle_magnetometer")
+    counts = {t: 0 for t in topics}
+    for d in ULog(str(path), list(topics)).data_list:
+        if d.multi_id == 0:
+            counts[d.name] = len(d.data["timestamp"])
+    best = max(topics, key=counts.get)
+    return {**p, "mag_topic": best} if counts[best] else p
+
+
 def _read(path, p: dict, require: tuple, optional: tuple = ()):
-    """The whole recording: rate (Hz or None), and the readings of each kind read (SI units, file axes)."""
+    """The whole recording: rate (Hz or None), and the readings of each kind read (SI units, file axes).
+
+    Gaps stop the fit only with ``--on-gap error``; otherwise a fit takes the samples on both sides of each (it
+    uses the readings, not their sequence, beyond finding rests) and says how many gaps there were.
+    """
+    from dataclasses import replace
+
     import numpy as np
 
     from ..io import ImuFile
 
-    with ImuFile(path, columns_spec(p), require=require, optional=optional) as imu:
+    p = _mag_topic(path, p, require)
+    columns = columns_spec(p)
+    strict = p.get("on_gap") == "error"
+    with ImuFile(path, columns if strict else replace(columns, max_gap=0), require=require, optional=optional) as imu:
         parts: dict = {}
         times = []
         for chunk in imu.chunks():
@@ -25,6 +57,14 @@ def _read(path, p: dict, require: tuple, optional: tuple = ()):
         data = {k: np.concatenate(v) for k, v in parts.items()}
         t = np.concatenate(times)
         rate = imu.rate or (1.0 / float(np.median(np.diff(t))) if len(t) > 1 else None)
+        steps = np.diff(t)
+        gaps = int(np.count_nonzero(steps > columns.max_gap / rate)) if rate and columns.max_gap and not strict else 0
+        if gaps:
+            click.echo(
+                f"warning: {path}: {gaps} gap(s) over {columns.max_gap:g} sample periods (the longest "
+                f"{steps.max():.4g} s); the fit uses the samples on both sides (--on-gap error stops instead)",
+                err=True,
+            )
         return rate, data, getattr(imu, "body", None) or "sensor"  # h-io's readers name the axes of some formats
 
 

@@ -1,4 +1,4 @@
-"""``strapdown compare``: every propagation method on a simulated scenario."""
+"""``strapdown compare``: every propagation method on a simulated scenario, or our estimate against a log's own."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from ._options import check_samples, flight_options, writable_folder
 
 
 @click.command()
+@click.argument("files", nargs=-1, type=click.Path(exists=True), metavar="[OURS LOG]")
 @flight_options("--gyro", "increment")
 @click.option("--methods", default=None, help="Comma-separated subset of the methods (default: all).")
 @click.option("--out", default=None, type=click.Path(file_okay=False), help="Write PNG plots to this directory.")
@@ -18,8 +19,15 @@ from ._options import check_samples, flight_options, writable_folder
     "integrated by each method from the logged attitude, against the logged attitude.",
 )
 @click.option("--topic", metavar="NAME", help="With --log: the IMU topic (default: the format's).")
-def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
-    """Run every propagation method on a simulated scenario and print the comparison table.
+@click.option("--truth-frame", metavar="FRAME", help="With OURS LOG: the log's reference frame, when it does not say.")
+@click.option("--truth-body", metavar="AXES", help="With OURS LOG: the log's body axes, when it does not say.")
+def command(files, scenario, rate, gyro, imu, seed, methods, out, log, topic, truth_frame, truth_body):
+    """Every propagation method on a simulated scenario; or OURS against the attitude LOG records.
+
+    Without files: run every method and print the comparison table.  Given OURS (an output of strapdown
+    estimate) and LOG (the log it came from): our attitude against the log's own
+    (PX4 vehicle_attitude, ArduPilot ATT, a ROS Imu orientation): total, inclination and heading errors, the
+    heading's constant offset, and how much of it the declination at the log's place and date explains.
 
     \b
     Examples:
@@ -28,7 +36,11 @@ def command(scenario, rate, gyro, imu, seed, methods, out, log, topic):
       strapdown compare --scenario aerobatic-show --imu consumer --gyro average --out plots/
       strapdown compare --methods exact,rk4,euler-angles
       strapdown compare --log flight.ulg                       # against the log's own vehicle_attitude
+      strapdown compare flight.estimate.csv flight.ulg          # our estimate against the autopilot's
     """
+    if files:
+        _ours_against_log(files, truth_frame, truth_body)
+        return
     import math
     from pathlib import Path
 
@@ -96,3 +108,21 @@ def _logged(path, topic):
     data = ImuData(t, g[:-1], empty, empty, q_true, "rate", ref.frame or "?", ref.body or "?", rate, t)
     title = f"{path}: {t.size} gyro rows at {rate:.4g} Hz against {ref.source}, {t[-1] - t[0]:.1f} s"
     return data, title
+
+
+def _ours_against_log(files, truth_frame, truth_body) -> None:
+    """``compare OURS LOG``: the errors, printed."""
+    from pathlib import Path
+
+    from ..io.pipelines.compare import compare_file
+
+    if len(files) != 2:
+        raise click.UsageError(f"give OURS and LOG (an estimate and the log it came from), got {len(files)} file(s)")
+    ours, log = files
+    try:
+        errors, note = compare_file(ours, log, truth_frame=truth_frame, truth_body=truth_body)
+    except (ValueError, OSError, ImportError) as exc:
+        raise click.ClickException(str(exc)) from None
+    if note:
+        click.echo(note, err=True)
+    click.echo(errors.text(Path(ours).name, Path(log).name))

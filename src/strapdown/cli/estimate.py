@@ -33,7 +33,8 @@ def kwargs(p: dict) -> dict:
         "frame": p.get("frame") and p["frame"].upper(),
         "body": p.get("body"),
         "out_body": p.get("out_body"),
-        "on_gap": p.get("on_gap") or "error",
+        "on_gap": p.get("on_gap") or "auto",
+        "bridge": p.get("bridge"),
         "mag": {"9d": True, "6d": False}.get(mode),
         "q0": parse_q0(p.get("q0")),
         "columns": columns_spec(p, ((n, v.strip()) for n, v in extra)),
@@ -60,8 +61,11 @@ def _calibration_kwargs(p: dict) -> dict:
     import math
 
     if text.strip().lower() == "auto":
+        if all(v is None for v in place):
+            out["declination"] = "auto"  # the log's own GPS position and date (estimate_file)
+            return out
         if any(v is None for v in place):
-            raise click.BadParameter("auto needs --lat, --lon and --date", param_hint="--declination")
+            raise click.BadParameter("auto takes --lat, --lon and --date together", param_hint="--declination")
         from ..calibrate import declination
 
         out["declination"] = float(declination(latitude=place[0], longitude=place[1], date=place[2], degrees=True))
@@ -104,7 +108,12 @@ def _list_params(ctx, param, value):
 )
 @click.option("--q0", metavar="W,X,Y,Z|YAW,PITCH,ROLL", help="Initial attitude in --frame (default: first sample).")
 @click.option("--calibration", type=click.Path(exists=True, dir_okay=False), help="Calibration JSON to apply.")
-@click.option("--declination", metavar="auto|DEG", help="Turn the 9D heading to true north (degrees east).")
+@click.option(
+    "--declination",
+    metavar="auto|DEG",
+    help="Turn the 9D heading to true north (degrees east); auto: the World Magnetic Model's at the place and "
+    "date the log's GPS records, or at --lat --lon --date.",
+)
 @click.option("--lat", type=float, help="Latitude, degrees (--declination auto).")
 @click.option("--lon", type=float, help="Longitude, degrees (--declination auto).")
 @click.option("--date", help="Date, YYYY-MM-DD or decimal year (--declination auto).")

@@ -33,7 +33,8 @@ def kwargs(p: dict) -> dict:
         "frame": p.get("frame") and p["frame"].upper(),
         "body": p.get("body"),
         "out_body": p.get("out_body"),
-        "on_gap": p.get("on_gap") or "error",
+        "on_gap": p.get("on_gap") or "auto",
+        "bridge": p.get("bridge"),
     }
 
 

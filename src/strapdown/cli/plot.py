@@ -59,12 +59,19 @@ def command(path, truth, truth_frame, truth_body, out, seq, radians, yaw_range, 
             aligned = align_truth(path, truth, truth_frame=truth_frame, truth_body=truth_body)
             if aligned.note:
                 click.echo(f"truth: {aligned.note}", err=True)
-            if not aligned.changed:
+            from ..io.readers import input_format
+            from ..io.registry import formats
+
+            # a log's own estimate is no table of quaternions: it goes through the aligned copy even when its
+            # instants are the estimate's
+            is_log = getattr(formats().get(input_format(Path(truth))), "reference", None) is not None
+            if not aligned.changed and not is_log:
                 written = plot_file(path, truth, folder, angles=angles, max_points=max_points)
             else:
                 with scratch_dir(folder / Path(path).name) as scratch:
                     est, ref = write_aligned(aligned, path, truth, scratch)
-                    written = plot_file(est, ref, folder, angles=angles, max_points=max_points)
+                    names = (Path(path).name, Path(truth).name)  # the inputs, not the scratch copies
+                    written = plot_file(est, ref, folder, angles=angles, max_points=max_points, names=names)
     except (ValueError, OSError, ImportError) as exc:
         # the readers suggest --in-format, which plot does not have: its attitude tables go by their suffix
         raise click.ClickException(

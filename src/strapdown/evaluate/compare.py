@@ -27,7 +27,7 @@ from ..rotations.quaternion import angle_between, multiply
 from ..rotations.rotvec import from_rotvec
 from ..simulate.sampling import ImuData
 
-__all__ = ["GAJDA_SECONDS_PER_LOOP", "Comparison", "MethodResult", "compare"]
+__all__ = ["GAJDA_SECONDS_PER_LOOP", "Comparison", "MethodResult", "ReferenceErrors", "compare", "reference_errors"]
 
 GAJDA_SECONDS_PER_LOOP = 4e-3  # Gajda (1988) §3c: one loop with the angles, FORTRAN, 8 MHz IBM PC/XT + 8087
 
@@ -281,3 +281,125 @@ def _ns_per_loop(data: ImuData, repeats: int) -> float:
         as_euler(q, "ZYX", yaw_range="positive")
         best = min(best, time.perf_counter() - start)
     return best / gyro.shape[0] * 1e9
+
+
+@dataclass
+class ReferenceErrors:
+    """An attitude estimate against another one (an autopilot's), heading and inclination told apart.
+
+    Attributes
+    ----------
+    rows : int
+        The instants compared.
+    total, heading, inclination : float
+        RMS errors, degrees (:func:`strapdown.evaluate.metrics.attitude_errors`).
+    heading_offset : float
+        The constant part of the heading difference, degrees, as a compass heading: ours minus theirs,
+        clockwise seen from above (the circular mean of the signed heading error).
+    heading_rest : float
+        The heading RMS once that offset is removed, degrees.
+    declination : float or None
+        The magnetic declination at the place and date, degrees east, when known.
+    expected_offset : float or None
+        The offset the declination explains: -declination when ours points to magnetic north and theirs to true
+        north (a magnetic heading is the true one minus D), 0 when both point the same way.
+    """
+
+    rows: int
+    total: float
+    heading: float
+    inclination: float
+    heading_offset: float
+    heading_rest: float
+    declination: float | None = None
+    expected_offset: float | None = None
+
+    def text(self, ours: str = "ours", theirs: str = "theirs") -> str:
+        """The comparison in a few lines, saying how much of the heading offset the declination explains."""
+        lines = [
+            f"{ours} against {theirs}, {self.rows} instants:",
+            f"  total        {self.total:8.3f} deg RMS",
+            f"  inclination  {self.inclination:8.3f} deg RMS",
+            f"  heading      {self.heading:8.3f} deg RMS: a constant offset of {self.heading_offset:+.3f} deg "
+            f"(ours - theirs, clockwise), {self.heading_rest:.3f} deg RMS about it",
+        ]
+        if self.expected_offset is not None:
+            rest = _wrap_deg(self.heading_offset - self.expected_offset)
+            # the declination is the offset when what is left of it is within the heading's own spread
+            matches = abs(rest) <= max(1.0, self.heading_rest)
+            lines.append(
+                f"  declination  {self.declination:+8.3f} deg east: it explains {self.expected_offset:+.3f} deg of the "
+                f"offset, {rest:+.3f} deg remain; "
+                + ("the offset matches the declination" if matches else "the offset is not the declination")
+            )
+        return "\n".join(lines)
+
+
+def _wrap_deg(a):
+    return (np.asarray(a) + 180.0) % 360.0 - 180.0 if np.ndim(a) else float((a + 180.0) % 360.0 - 180.0)
+
+
+def reference_errors(
+    q_est, q_ref, frame: str, *, declination_deg: float | None = None, ours: str = "magnetic", theirs: str = "true"
+) -> ReferenceErrors:
+    """Total, heading and inclination RMS of an estimate against a reference, and their constant heading offset.
+
+    Parameters
+    ----------
+    q_est, q_ref : array_like, shape (N, 4)
+        The two attitudes at the same instants, body to the same frame (NaN rows are left out).
+    frame : str
+        That frame (``"NED"``, ``"ENU"``): whether its z points down or up, for the sense of the heading.
+    declination_deg : float, optional
+        The declination at the place and date, degrees east.
+    ours, theirs : {"magnetic", "true", "free"}
+        Which north each heading points to: the offset the declination explains is -D from magnetic to true.
+
+    Returns
+    -------
+    ReferenceErrors
+        The errors, degrees.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown import from_euler
+    >>> from strapdown.evaluate.compare import reference_errors
+    >>> theirs = from_euler(np.column_stack([np.linspace(0, 90, 50), np.zeros(50), np.zeros(50)]), "ZYX", degrees=True)
+    >>> ours = from_euler(np.column_stack([np.linspace(0, 90, 50) - 4.0, np.zeros(50), np.full(50, 1.0)]), "ZYX",
+    ...                   degrees=True)
+    >>> r = reference_errors(ours, theirs, "NED", declination_deg=4.0)
+    >>> round(r.heading_offset, 6), round(r.inclination, 6), r.expected_offset
+    (-4.0, 1.0, -4.0)
+    """
+    from .metrics import attitude_errors, error_quaternion, rmse
+
+    est, ref = np.asarray(q_est, dtype=np.float64), np.asarray(q_ref, dtype=np.float64)
+    keep = np.isfinite(est).all(axis=1) & np.isfinite(ref).all(axis=1)
+    est, ref = est[keep], ref[keep]
+    if not keep.any():
+        raise ValueError("no instant where both attitudes are known")
+    errors = {k: float(np.degrees(rmse(v))) for k, v in attitude_errors(est, ref).items()}
+    e = error_quaternion(est, ref)
+    signed = 2 * np.arctan2(e[:, 3], e[:, 0])  # about the frame's z
+    if frame.upper()[2:] not in ("D", "U"):
+        raise ValueError(f"frame {frame!r}: its z axis must be vertical (D or U), as in NED, ENU, NWU")
+    down = frame.upper()[2] == "D"  # a turn about a down z is clockwise seen from above: a compass heading's sense
+    offset = float(np.arctan2(np.sin(signed).mean(), np.cos(signed).mean()))
+    rest = np.angle(np.exp(1j * (signed - offset)))
+    compass = float(np.degrees(offset) if down else -np.degrees(offset))
+    expected = None
+    if declination_deg is not None and "free" not in (ours, theirs):
+        expected = {("magnetic", "true"): -declination_deg, ("true", "magnetic"): declination_deg}.get(
+            (ours, theirs), 0.0
+        )
+    return ReferenceErrors(
+        int(keep.sum()),
+        errors["total"],
+        errors["heading"],
+        errors["inclination"],
+        compass,
+        float(np.degrees(np.sqrt(np.mean(rest**2)))),
+        declination_deg,
+        expected,
+    )

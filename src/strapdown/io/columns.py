@@ -15,7 +15,16 @@ from dataclasses import dataclass
 
 from .units import parse_unit, split_name
 
-__all__ = ["Pick", "describe_fields", "detect_rate", "detect_time", "detect_vector", "pick_vector", "split_name"]
+__all__ = [
+    "Pick",
+    "describe_fields",
+    "detect_rate",
+    "detect_time",
+    "detect_vector",
+    "no_header_row",
+    "pick_vector",
+    "split_name",
+]
 
 _STEMS = {
     # wrss / arss: ASL/EuRoC/TUM-VI's w_RS_S and a_RS_S (of sensor S relative to R, in S)
@@ -47,6 +56,8 @@ _STEMS = {
     "mag": ("mag", "magnetometer", "m", "b", "magneticfield", "field"),
 }
 _TIME = ("t", "time", "times", "timestamp", "timestamps", "ts", "sec", "seconds", "timesec", "stamp")
+# a unit glued to the name without a separator: ArduPilot's TimeUS (and TimeMS of older logs)
+_GLUED_TIME = {"timeus": "us", "timems": "ms"}
 _RATE = ("rate", "samplingrate", "samplerate", "fs", "frequency", "freq", "ratehz", "samplingfrequency", "hz")
 _AXES = "xyz"
 _KINDS = ("gyro", "acc", "mag", "time")
@@ -71,6 +82,37 @@ class Pick:
     def label(self) -> str:
         """The fields as written on a command line."""
         return ",".join(self.fields)
+
+
+def no_header_row(path, fields: Mapping[str, int], what: str) -> ValueError:
+    """The error for a file without a header row (its columns are named "1", "2", ...) whose ``what`` is not given.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    fields : mapping of str to int
+        Its columns.
+    what : str
+        What could not be found ("gyro columns", "time column").
+
+    Returns
+    -------
+    ValueError
+        Saying so, with the options that give the columns by number.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from strapdown.io.columns import no_header_row
+    >>> str(no_header_row(Path("imu.csv"), {"1": 1, "2": 1}, "gyro columns"))[:60]
+    'imu.csv has no header row (its first line is numbers), so no'
+    """
+    return ValueError(
+        f"{path} has no header row (its first line is numbers), so no column name tells the {what}: give the "
+        f"columns by number, 1 the first, e.g. --time 1 --gyro 2,3,4 --acc 5,6,7 (or --gyro {path.name}:2,3,4 "
+        f"when several files are given); it has {len(fields)} columns"
+    )
 
 
 def describe_fields(fields: Mapping[str, int]) -> str:
@@ -225,11 +267,15 @@ def detect_time(fields: Mapping[str, int]) -> Pick | None:
     >>> from strapdown.io.columns import detect_time
     >>> detect_time({"timestamp_ms": 1, "gx": 1})
     Pick(fields=('timestamp_ms',), unit_hint='ms')
+    >>> detect_time({"TimeUS": 1, "GyrX": 1})                   # ArduPilot's
+    Pick(fields=('TimeUS',), unit_hint='us')
     """
     found = []
     for name, w in fields.items():
         base, unit = split_name(name, "time")
-        if w == 1 and base in _TIME:
+        if w == 1 and base in _GLUED_TIME and unit is None:
+            found.append(Pick((name,), _GLUED_TIME[base]))
+        elif w == 1 and base in _TIME:
             found.append(Pick((name,), unit))
     if len(found) > 1:
         raise ValueError(f"several columns look like time: {', '.join(p.label for p in found)}; choose with --time")

@@ -26,7 +26,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Axes", "GapSplitter", "natural_body", "output_metadata", "resolve_axes", "time_metadata"]
+__all__ = [
+    "BRIDGE_ERROR",
+    "GAP_BIAS",
+    "Axes",
+    "GapSplitter",
+    "bridge_limit",
+    "gyro_noise",
+    "natural_body",
+    "output_metadata",
+    "resolve_axes",
+    "time_metadata",
+]
 
 #: The body axes whose level attitude is the identity in each reference frame (z down with z down, ...):
 #: aviation's NED/FRD, ROS REP 103's ENU/FLU (x forward; yaw 0 faces east), and NWU/FLU.
@@ -193,33 +204,130 @@ def output_metadata(out, *, bias: bool = False, flags: bool = False) -> dict:
     return meta
 
 
-class GapSplitter:
-    """Cuts a stream of chunks at gaps longer than ``max_gap`` nominal sample periods (``--on-gap``).
+#: The attitude error a bridged gap may cost, rad (about a degree: :func:`bridge_limit`).
+BRIDGE_ERROR = float(np.radians(1.0))
 
-    The period is the median step of the first chunk that has two rows (or ``period``).  Call it with each
-    chunk's times; it returns the indices where a new segment starts in that chunk (0 can be one, when the gap
-    falls between two chunks) and counts the segments.
+#: The gyro bias that is left uncorrected across a gap, rad/s: 0.5°/s, an uncalibrated consumer MEMS gyro's
+#: turn-on bias (the AttitudeEstimator's prior ``bias_sigma_init``); a filter's estimate is no better than that
+#: while it still converges, and an integration corrects none of it.
+GAP_BIAS = float(np.radians(0.5))
+
+
+def gyro_noise(gyro) -> float:
+    """The white noise of one gyro sample, rad/s (per axis; the largest axis), from a stretch of readings.
+
+    The second difference of white noise of standard deviation σ has variance 6σ², while a smooth motion
+    (a rate that changes linearly over three samples) leaves none in it, so σ = 1.4826 MAD(Δ²ω) / √6 (the
+    median absolute deviation, 1.4826 its Gaussian factor, so that a few jumps do not count) tells the noise in
+    motion as well as at rest.  Vibration at the sample rate counts as noise: it is what a held sample gets wrong.
+
+    Parameters
+    ----------
+    gyro : array_like, shape (n, 3)
+        Consecutive rates, rad/s (finite rows are used).
+
+    Returns
+    -------
+    float
+        σ, rad/s; 0 for fewer than 8 rows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.conventions import gyro_noise
+    >>> rng = np.random.default_rng(0)
+    >>> t = np.arange(20000) * 0.01
+    >>> motion = np.column_stack([np.sin(t), np.cos(0.5 * t), 0 * t])       # a smooth motion
+    >>> round(gyro_noise(motion + 0.01 * rng.standard_normal((t.size, 3))), 3)
+    0.01
+    """
+    g = np.asarray(gyro, dtype=np.float64)
+    g = g[np.isfinite(g).all(axis=1)] if g.ndim == 2 else g[:0]
+    if g.shape[0] < 8:
+        return 0.0
+    d2 = g[2:] - 2.0 * g[1:-1] + g[:-2]
+    mad = np.median(np.abs(d2 - np.median(d2, axis=0)), axis=0)
+    return float((1.4826 * mad / np.sqrt(6.0)).max())
+
+
+def bridge_limit(noise: float, bias: float = GAP_BIAS, error: float = BRIDGE_ERROR) -> float:
+    """The longest gap that an estimator or integration may bridge, s: what its gyro errors cost in it.
+
+    Across a gap of T seconds no sample is read: the rate is held (integration) or interpolated between the
+    samples on either side (the AttitudeEstimator), and no accelerometer or magnetometer sample corrects it.
+    Whatever those one or two samples got wrong then acts over the whole gap, not averaged as the samples of a
+    measured stretch are: the bias b that is left uncorrected, and the white noise σ of one sample
+    (:func:`gyro_noise`).  The attitude error of the bridge is about
+
+        θ(T) = (b + σ) T,
+
+    so a gap may be bridged while θ(T) stays within ``error`` (about 1°): T_max = error / (b + σ).  For a quiet
+    consumer gyro (b = 0.5°/s, σ small) that is 2 s; a drone's vibration (σ of a few °/s) brings it to tenths of
+    a second.  A longer gap restarts the estimator: the attitude after it is then the accelerometer's and
+    magnetometer's again, which a bridge of more than a degree would be worse than.
+
+    Parameters
+    ----------
+    noise : float
+        σ, the white noise of one gyro sample, rad/s.
+    bias : float
+        b, the bias left uncorrected, rad/s (:data:`GAP_BIAS`).
+    error : float
+        The error a bridge may cost, rad (:data:`BRIDGE_ERROR`).
+
+    Returns
+    -------
+    float
+        T_max, s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from strapdown.io.conventions import bridge_limit
+    >>> round(bridge_limit(0.0), 6), round(bridge_limit(np.radians(4.5)), 6)   # quiet, and a vibrating drone
+    (2.0, 0.2)
+    """
+    rate = float(bias) + float(noise)
+    return float(error) / rate if rate > 0 else float("inf")
+
+
+class GapSplitter:
+    """Finds the gaps of a stream of chunks: steps longer than ``max_gap`` nominal sample periods (``--on-gap``).
+
+    The period is the median step of the first chunk that has two rows (or ``period``).  A gap that lasts at most
+    ``bridge`` seconds is bridged (kept in ``bridged``: the estimator carries on across it); a longer one starts
+    a new segment (kept in ``gaps``).  Call it with each chunk's times; it returns the indices where a new
+    segment starts in that chunk (0 can be one, when the gap falls between two chunks); :meth:`split` also
+    returns the rows that follow a bridged gap.
     """
 
-    def __init__(self, max_gap: float, period: float | None = None):
+    def __init__(self, max_gap: float, period: float | None = None, bridge: float = 0.0):
         self.max_gap = max_gap
         self.period = period
+        self.bridge = bridge
         self.last: float | None = None
         self.segment = 0
-        self.gaps: list[tuple[float, float]] = []  # (time before, time after), in output seconds
+        self.gaps: list[tuple[float, float]] = []  # (time before, time after), in output seconds: restarts
+        self.bridged: list[tuple[float, float]] = []  # the same for the gaps bridged
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
         """Indices in ``t`` where a segment starts after a gap (the gaps are kept in ``gaps``)."""
+        return self.split(t)[0]
+
+    def split(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The indices in ``t`` where a segment starts after a gap, and those of the rows after a bridged gap."""
+        none = np.zeros(0, dtype=np.intp)
         if t.size == 0:
-            return np.zeros(0, dtype=np.intp)
+            return none, none
         if self.period is None and t.size > 1:
             self.period = float(np.median(np.diff(t)))
         d = np.diff(t, prepend=t[0] if self.last is None else self.last)
-        if not self.max_gap or not self.period:
-            cuts = np.zeros(0, dtype=np.intp)
-        else:
-            cuts = np.flatnonzero(d > self.max_gap * self.period)
-        for i in cuts:
-            self.gaps.append((float(t[i] - d[i]), float(t[i])))
         self.last = float(t[-1])
-        return cuts
+        if not self.max_gap or not self.period:
+            return none, none
+        over = np.flatnonzero(d > self.max_gap * self.period)
+        short = d[over] <= self.bridge
+        cuts, bridged = over[~short], over[short]
+        for kept, i in [(self.gaps, i) for i in cuts] + [(self.bridged, i) for i in bridged]:
+            kept.append((float(t[i] - d[i]), float(t[i])))
+        return cuts, bridged

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, pick_vector
+from .columns import Pick, describe_fields, detect_rate, detect_time, detect_vector, no_header_row, pick_vector
 from .formats.multi import kind_of_file
 from .plausibility import ZEROED_RUN, check_chunk, probe, zeroed_rows
 from .readers import Source, check_chunk_rows, open_source, require_rows
@@ -49,11 +49,13 @@ class ImuColumns:
     Attributes
     ----------
     gyro, acc, mag : str, optional
-        Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``).
+        Three comma-separated columns (``"gx,gy,gz"``) or one (N, 3) array (``"imu_gyr"``); in a file without a
+        header row, column numbers (``"2,3,4"``, 1 the first).  With several input files, ``FILE:COLS`` names
+        the file too (``"imu.csv:AccX,AccY,AccZ"``; FILE as given or its name).
     time : str, optional
-        The time column.  Times are counted from the first sample; integers (epoch nanoseconds, µs since boot)
-        exactly, in integer arithmetic, with their unit inferred from the median step unless ``time_unit`` says
-        it (:mod:`strapdown.io.timebase`).
+        The time column (``FILE:COL`` as above).  Times are counted from the first sample; integers (epoch
+        nanoseconds, µs since boot) exactly, in integer arithmetic, with their unit inferred from the median
+        step unless ``time_unit`` says it (:mod:`strapdown.io.timebase`).
     rate : float, optional
         Sample rate in Hz, for files without time (row k is at k / rate).
     gyro_unit, acc_unit, mag_unit, time_unit : str, optional
@@ -126,6 +128,41 @@ class ImuChunk:
         return self.t.shape[0]
 
 
+def _file_picks(path, spec: ImuColumns) -> tuple[ImuColumns, dict]:
+    """The ``FILE:COLS`` columns of ``spec`` as ``{Path: {kind: COLS}}`` for several files, and the spec without them.
+
+    For one file, ``FILE:COLS`` naming that file is its ``COLS``; for several, a ``time`` without a file is
+    every file's time column.
+    """
+    from dataclasses import replace
+    from pathlib import Path
+
+    paths = [Path(p) for p in path] if isinstance(path, list | tuple) else [Path(path)]
+    picks: dict = {}
+    changes = {}
+    for kind in ("gyro", "acc", "mag", "time"):
+        given = getattr(spec, kind)
+        if given and kind == "time" and ":" not in given and len(paths) > 1:
+            for p in paths:  # one time column name (or number) for every file
+                picks.setdefault(p, {})["time"] = given
+            changes["time"] = None
+        if not given or ":" not in given:
+            continue
+        name, cols = given.rsplit(":", 1)
+        match = [p for p in paths if str(p) == name or p.name == name]
+        if not match:
+            if len(paths) == 1:
+                continue  # a column name with a colon in it
+            shown = ", ".join(p.name for p in paths)
+            raise ValueError(f"--{kind} {given}: {name} is none of the inputs ({shown})")
+        if len(paths) == 1:
+            changes[kind] = cols
+        else:
+            picks.setdefault(match[0], {})[kind] = cols
+            changes[kind] = None
+    return (replace(spec, **changes) if changes else spec), picks
+
+
 class ImuFile:
     """A file of IMU readings: the columns resolved, units fixed, and checked chunks on demand.
 
@@ -196,7 +233,10 @@ class ImuFile:
         increments: bool = False,
     ):
         self.spec = columns or ImuColumns()
+        self.spec, picks = _file_picks(path, self.spec)
         options = {k: getattr(self.spec, k) for k in ("topic", "mag_topic", "time_unit") if getattr(self.spec, k)}
+        if picks:
+            options["picks"] = picks
         self.source: Source = open_source(path, self.spec.format, **options)
         self.path = self.source.path
         self.format = self.source.format
@@ -224,6 +264,8 @@ class ImuFile:
                 bare = self.source.format == "csv" and kind_of_file(self.path.name) == kind
                 pick = detect_vector(kind, fields, units=self.source.units, bare=bare)
             if pick is None:
+                if kind in require and getattr(self.source, "headerless", False):
+                    raise no_header_row(self.path, fields, f"{kind} columns")
                 if kind in require:
                     raise ValueError(
                         f"{self.path}: no {kind} columns found (looked for {_LOOKED_FOR[kind]}); name them with "
@@ -266,6 +308,8 @@ class ImuFile:
             self.time = detect_time(fields)
             if self.time is None:
                 self.rate = detect_rate(self.source.scalars)
+            if self.time is None and self.rate is None and getattr(self.source, "headerless", False):
+                raise no_header_row(self.path, fields, "time column")
             if self.time is None and self.rate is None:
                 raise ValueError(
                     f"{self.path}: no time column found (looked for t, time, timestamp, ts, time_s, ...) and no "
@@ -368,6 +412,23 @@ class ImuFile:
         if len(next(iter(cols.values()))):
             probe(self, {kind: _assemble(cols, pick) for kind, pick in self.picks.items() if kind in _KINDS})
 
+    def head(self, kind: str) -> np.ndarray | None:
+        """The first rows (up to 4096) of a sensor's readings in SI units (rad/s for the gyro), or None."""
+        if kind not in self.picks:
+            return None
+        values = _assemble(self._head(), self.picks[kind]) * scale(kind, self.units[kind])
+        if kind == "gyro" and self.increments:
+            values = values / self.period if self.period else np.full_like(values, np.nan)
+        return values
+
+    def gyro_noise(self) -> float:
+        """The white noise of one gyro sample in the first rows, rad/s (:func:`strapdown.io.conventions.gyro_noise`)."""
+        from .conventions import gyro_noise
+
+        if getattr(self, "_noise", None) is None:
+            self._noise = gyro_noise(self.head("gyro"))
+        return self._noise
+
     def count_rows(self) -> int:
         """Number of rows (a pass over a CSV file)."""
         if self.rows is None:
@@ -377,6 +438,31 @@ class ImuFile:
     def where(self, row: int) -> str:
         """Where a row is, for messages: ``"line 12"`` (CSV) or ``"row 10"``."""
         return self.source.where(row)
+
+    def file_of(self, kind: str):
+        """The file that holds a quantity's readings ("gyro", "acc", "mag", "time"), for messages.
+
+        The input itself, except for several files of one recording, where each sensor names its own file.
+        """
+        pick = self.time if kind == "time" else self.picks.get(kind)
+        located = getattr(self.source, "located", None) or {}
+        field = pick.fields[0] if pick is not None else None
+        return located[field][0] if field in located else self.path
+
+    def locate(self, field: str, row: int) -> tuple:
+        """(file, where) of a field's reading on a row: ``(Accelerometer.csv, "line 7")`` in a merged recording.
+
+        A slower sensor's row of the merged table is its own sample's row in its own file; a row where it has no
+        sample is told by the table's row.
+        """
+        located = getattr(self.source, "located", None) or {}
+        if field not in located:
+            return self.path, self.where(row)
+        path, where, index = located[field]
+        own = row if index is None else int(index[row])
+        if where is None or own < 0:
+            return path, f"row {row} of the merged table"
+        return path, where(own)
 
     def close(self) -> None:
         """Release the file."""

@@ -15,7 +15,7 @@ import numpy as np
 __all__ = ["place_on_rows"]
 
 
-def place_on_rows(t_rows, t_samples, values, period: float | None = None) -> np.ndarray:
+def place_on_rows(t_rows, t_samples, values, period: float | None = None, *, index: bool = False):
     """Put samples taken at ``t_samples`` on the rows timed ``t_rows`` (nearest row), NaN rows elsewhere.
 
     Parameters
@@ -29,11 +29,15 @@ def place_on_rows(t_rows, t_samples, values, period: float | None = None) -> np.
     period : float, optional
         The gyro's period, beyond which a sample is dropped; by default the median step of ``t_rows`` (given when
         the rows are one chunk of a longer log, whose period is the whole log's).
+    index : bool
+        Also return which sample each row got.
 
     Returns
     -------
     numpy.ndarray, shape (n, k)
         float64; a row without a sample is all NaN.
+    numpy.ndarray of int, shape (n,)
+        With ``index``: the sample on each row, -1 for none.
 
     Examples
     --------
@@ -48,8 +52,9 @@ def place_on_rows(t_rows, t_samples, values, period: float | None = None) -> np.
     if values.ndim != 2:  # (n,) or (n, k): an empty (0, k) block keeps its k, which reshape cannot infer
         values = values.reshape(t_samples.shape[0], -1)
     out = np.full((t_rows.shape[0], values.shape[1]), np.nan)
+    which = np.full(t_rows.shape[0], -1, dtype=np.int64)
     if t_rows.size == 0 or t_samples.size == 0:
-        return out
+        return (out, which) if index else out
     if t_rows.dtype.kind in "iu" and t_samples.dtype.kind in "iu":
         t_rows, t_samples = t_rows.astype(np.int64), t_samples.astype(np.int64)
     else:
@@ -63,11 +68,13 @@ def place_on_rows(t_rows, t_samples, values, period: float | None = None) -> np.
     if period is None:
         period = np.median(np.diff(t_rows)) if t_rows.size > 1 else np.inf
     inside = dist <= period
+    sample = np.flatnonzero(inside)
     row, dist, values = row[inside], dist[inside], values[inside]
     # nearest first, so that the first occurrence of each row is the sample kept
     order = np.lexsort((dist, row))
-    row, values = row[order], values[order]
+    row, values, sample = row[order], values[order], sample[order]
     first = np.ones(row.size, dtype=bool)
     first[1:] = row[1:] != row[:-1]
     out[row[first]] = values[first]
-    return out
+    which[row[first]] = sample[first]
+    return (out, which) if index else out

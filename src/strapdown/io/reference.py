@@ -1,4 +1,7 @@
-"""A reference (truth) attitude from a file: a flight log's own estimate or a table of quaternions.
+"""A reference attitude from a file (a flight log's own estimate, a table of quaternions), and a log's position.
+
+Both through the format registry's readers: :func:`read_reference` and :func:`log_position` (where and when a
+log was recorded).
 
 For ``plot --truth`` and ``compare``: :func:`read_reference` returns times, quaternions and their frames, on the
 same time line as :class:`~strapdown.io.ImuFile` reads the IMU of the same log, so that the two compare
@@ -14,7 +17,7 @@ import numpy as np
 
 from .source import TimeOrigin
 
-__all__ = ["Reference", "read_reference"]
+__all__ = ["Reference", "log_position", "read_reference"]
 
 _QUATS = (("qw_true", "qx_true", "qy_true", "qz_true"), ("qw", "qx", "qy", "qz"))
 
@@ -106,14 +109,15 @@ def read_reference(path, format: str | None = None, topic: str | None = None) ->
     (array([0.  , 0.01]), 'qw,qx,qy,qz')
     """
     from .readers import input_format, open_source, read_metadata
+    from .registry import formats
 
     path = Path(path)
     fmt = input_format(path, format)
-    if fmt == "ulog":
-        from .formats.ulog import read_attitude
-
-        t, q, origin = read_attitude(path, topic)
-        return Reference(t, _unit(q, path, "vehicle_attitude"), "NED", "FRD", origin, "vehicle_attitude")
+    hook = getattr(formats().get(fmt), "reference", None)
+    if hook is not None:  # a log's own estimate (PX4 vehicle_attitude, ArduPilot ATT, a ROS Imu orientation)
+        found = dict(hook(path, topic=topic))
+        found["q"] = _unit(np.asarray(found["q"], dtype=np.float64), path, found.get("source", "attitude"))
+        return Reference(**found)
     from .columns import detect_time
     from .timebase import origin_of
     from .units import scale
@@ -190,3 +194,43 @@ def _unit(q: np.ndarray, path: Path, what: str) -> np.ndarray:
         i = int(np.argmax(bad))
         raise ValueError(f"{path}: {what} row {i} is not a unit quaternion (|q| = {n[i]:.6g})")
     return q / n[:, None]
+
+
+def log_position(path, format: str | None = None):
+    r"""Where and when a log was recorded, by its format's reader (the registry's ``position`` field).
+
+    Parameters
+    ----------
+    path : path-like
+        The input.
+    format : str, optional
+        Its format, when the suffix does not tell it.
+
+    Returns
+    -------
+    LogPosition or None
+        None when the format records no position, or this log holds no fix.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from strapdown.io.reference import log_position
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "log.csv"
+    >>> _ = path.write_text("t,gx,gy,gz\n0,0,0,0\n")
+    >>> log_position(path) is None          # a table records no position
+    True
+    """
+    from .position import LogPosition
+    from .readers import input_format
+    from .registry import formats
+
+    if isinstance(path, list | tuple):
+        return None  # several files: no format records a position for them
+    fmt = formats().get(input_format(Path(path), format))
+    reader = getattr(fmt, "position", None)
+    if reader is None:
+        return None
+    found = reader(Path(path))
+    if found is None or isinstance(found, LogPosition):
+        return found
+    return LogPosition(**found)  # a format's reader may give the fields as a dict

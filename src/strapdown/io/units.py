@@ -30,7 +30,7 @@ UNITS: dict[str, dict[str, float]] = {
     "gyro": {"rad/s": 1.0, "deg/s": math.pi / 180},
     "acc": {"m/s2": 1.0, "g": GRAVITY, "mg": GRAVITY / 1000},
     # "normalised": a field scaled to |m| ~ 1 (direction only, which is all the estimators use)
-    "mag": {"uT": 1.0, "gauss": 100.0, "nT": 1e-3, "mT": 1000.0, "normalised": 1.0},
+    "mag": {"uT": 1.0, "gauss": 100.0, "mG": 0.1, "nT": 1e-3, "mT": 1000.0, "normalised": 1.0},
     "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9},
 }
 
@@ -57,6 +57,9 @@ _ALIASES: dict[str, dict[str, str]] = {
         "gauss": "gauss",
         "g": "gauss",
         "ga": "gauss",  # PX4's magnetometer_ga
+        "mg": "mG",  # milligauss (mT is "mt": the case is gone, the letters differ)
+        "milligauss": "mG",
+        "mgauss": "mG",
         "nt": "nT",
         "mt": "mT",
         "normalised": "normalised",

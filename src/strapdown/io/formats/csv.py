@@ -59,6 +59,14 @@ class CsvSource(Source):
         counts = {d: head.count(d) for d in (",", ";", "\t", "|")}
         self.delimiter = max(counts, key=counts.get) if max(counts.values()) else ","
         self.header = [h.strip() for h in next(csv.reader([head], delimiter=self.delimiter))]
+        #: no header row (the first line is numbers, as some sensor vendors export): the columns are named by
+        #: their numbers, "1" the first, and that line is data
+        self.headerless = (
+            head is first and any(self.header) and all(_is_number(h.replace(",", ".")) for h in self.header if h)
+        )
+        if self.headerless:
+            self.header = [str(i + 1) for i in range(len(self.header))]
+            n_skip, lines = len(before), [first, *rest]
         # one pass (Counter), not header.count per name: a 40k-column header took 32 s that way
         dup = sorted(h for h, n in Counter(self.header).items() if n > 1)
         if dup:

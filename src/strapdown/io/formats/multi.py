@@ -1,10 +1,12 @@
-"""Several files of one recording (one file per sensor), merged on the gyro's rows without resampling it.
+"""Several files of one recording, merged on the gyro's rows without resampling it.
 
 Each file is read whole (phone and lab exports are small), its sensor told by its name (``Gyroscope.csv``,
-``accel.csv``, ``Magnetometer.csv``, ...) or else by its columns, its time column by name (``time``,
-``Time (s)``, ``timestamp``).  Times are put on one clock exactly: integer columns count from their own first
-value in integers, and the offsets between the files' first values are integers too.  Then the accelerometer and
-magnetometer samples go to the nearest gyro rows (:mod:`strapdown.io.merge`); the rows they miss are NaN.
+``accel.csv``, ``Magnetometer.csv``, ...) or else its sensors by their columns (one file may hold several:
+an ArduPilot ``IMU`` table's ``GyrX..GyrZ`` and ``AccX..AccZ`` beside a ``MAG`` file), or as given per file
+(``--acc imu.csv:AccX,AccY,AccZ``), its time column by name (``time``, ``Time (s)``, ``timestamp``).  Times
+are put on one clock exactly: integer columns count from their own first value in integers, and the offsets
+between the files' first values are integers too.  Then the accelerometer and magnetometer samples go to the
+nearest gyro rows (:mod:`strapdown.io.merge`); the rows they miss are NaN.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..columns import describe_fields, detect_time, detect_vector
+from ..columns import describe_fields, detect_time, detect_vector, no_header_row, pick_vector
 from ..merge import place_on_rows
 from ..source import MemorySource, Source, TimeOrigin
 from ..timebase import check_period, infer_time_unit, origin_of
@@ -105,6 +107,7 @@ class Stream:
     integer: bool
     values: np.ndarray
     qualified: bool = False
+    where: object = None
 
 
 def read_stream(src: Source, kind: str | None = None, time: str | None = None) -> Stream:
@@ -122,7 +125,7 @@ def read_stream(src: Source, kind: str | None = None, time: str | None = None) -
     Returns
     -------
     Stream
-        The samples.
+        The samples (the first sensor found, when the file holds several: :func:`read_streams`).
 
     Examples
     --------
@@ -135,41 +138,99 @@ def read_stream(src: Source, kind: str | None = None, time: str | None = None) -
     >>> s.kind, s.fields, s.t, s.values[0]
     ('gyro', ('x', 'y', 'z'), array([       0., 10000000.]), array([0.1, 0.2, 0.3]))
     """
+    return read_streams(src, kind, time)[0]
+
+
+def _no_columns(src: Source, kind: str | None) -> ValueError:
+    what = kind or "gyro, accelerometer or magnetometer"
+    if getattr(src, "headerless", False):
+        return no_header_row(src.path, src.fields, f"{what} columns")
+    return ValueError(
+        f"{src.path}: cannot tell which columns hold the {what} readings (looked for x,y,z and names like "
+        f"gyro_x); it has: {describe_fields(src.fields)}; name them with --gyro/--acc/--mag {src.path.name}:COLS"
+    )
+
+
+def read_streams(src: Source, kind: str | None = None, time: str | None = None, picks: dict | None = None) -> list:
+    r"""Every sensor's samples in an open table: one file may hold the gyro, the accelerometer and more.
+
+    Parameters
+    ----------
+    src : Source
+        The open file.
+    kind : {"gyro", "acc", "mag"}, optional
+        Its only sensor; by default the one its name says (``Gyroscope.csv``: its bare ``x, y, z`` columns),
+        else every sensor whose columns its names show (``GyrX..GyrZ`` and ``AccX..AccZ``).
+    time : str, optional
+        The time column; by default detected (``time`` is preferred when several look like time).
+    picks : dict of str to str, optional
+        Columns given for a sensor (``{"acc": "AccX,AccY,AccZ"}``, or by number in a file without a header:
+        ``"5,6,7"``), used instead of any detection; then only the sensors named are read.
+
+    Returns
+    -------
+    list of Stream
+        One per sensor, gyro first, sharing the file's time column.
+
+    Examples
+    --------
+    An ArduPilot IMU table exported to CSV holds the gyro and the accelerometer:
+
+    >>> import pathlib, tempfile
+    >>> from strapdown.io import open_source
+    >>> from strapdown.io.formats.multi import read_streams
+    >>> rows = "TimeUS,GyrX,GyrY,GyrZ,AccX,AccY,AccZ\n1000,0,0,0.1,0,0,-9.8\n3500,0,0,0.1,0,0,-9.8\n"
+    >>> (path := pathlib.Path(tempfile.mkdtemp()) / "IMU.csv").write_text(rows) > 0
+    True
+    >>> with open_source(path) as src:
+    ...     print([(s.kind, s.fields) for s in read_streams(src)])
+    [('gyro', ('GyrX', 'GyrY', 'GyrZ')), ('acc', ('AccX', 'AccY', 'AccZ'))]
+    """
     fields = src.fields
-    kind = kind or kind_of_file(src.path.name)
-    candidates = (kind,) if kind else ("gyro", "acc", "mag")
-    pick = None
-    for k in candidates:
-        pick = detect_vector(k, fields, units=src.units, bare=kind is not None)
-        if pick is not None:
-            kind = k
-            break
-    if pick is None:
-        raise ValueError(
-            f"{src.path}: cannot tell which columns hold the {kind or 'gyro, accelerometer or magnetometer'} "
-            f"readings (looked for x,y,z and names like gyro_x); it has: {describe_fields(fields)}"
-        )
+    found = {}
+    picks = dict(picks or {})
+    if "time" in picks:
+        given = picks.pop("time")
+        time = pick_vector(given, fields, f"--time {src.path.name}:{given}", width=1).fields[0]
+    if picks:
+        for k, spec in picks.items():
+            found[k] = pick_vector(spec, fields, f"--{k} {src.path.name}:{spec}")
+    else:
+        kind = kind or kind_of_file(src.path.name)
+        for k in (kind,) if kind else ("gyro", "acc", "mag"):
+            pick = detect_vector(k, fields, units=src.units, bare=kind is not None)
+            if pick is not None:
+                found[k] = pick
+    if not found:
+        raise _no_columns(src, kind)
     if time is None:
         times = [n for n in fields if n.strip().lower() == "time"]
         time = times[0] if times else None
     if time is None:
-        found = detect_time(fields)
-        if found is None:
+        detected = detect_time(fields)
+        if detected is None:
+            if getattr(src, "headerless", False):
+                raise no_header_row(src.path, fields, "time column")
             raise ValueError(
                 f"{src.path}: no time column (looked for time, t, timestamp, ...); it has: {describe_fields(fields)}"
             )
-        time = found.fields[0]
+        time = detected.fields[0]
     integer = time in src.integers and not src.is_timestamp(time)
-    parts = list(src.chunks([time, *pick.fields], 1 << 20, relative=(time,) if integer else ()))
-    cat = {n: np.concatenate([p[n] for _, p in parts]) if parts else np.zeros(0) for n in (time, *pick.fields)}
+    names = list(dict.fromkeys([time, *(f for p in found.values() for f in p.fields)]))
+    parts = list(src.chunks(names, 1 << 20, relative=(time,) if integer else ()))
+    cat = {n: np.concatenate([p[n] for _, p in parts]) if parts else np.zeros(0) for n in names}
     t = cat[time]
     first = int(src.origins[time]) if integer and time in src.origins else (float(t[0]) if t.size else 0.0)
     if not integer and t.size:
         t = t - t[0]
-    unit = pick.unit_hint or next((src.units[f] for f in pick.fields if f in src.units), None)
-    unit = parse_unit(kind, unit, strict=False) if unit else None
-    values = np.column_stack([cat[f] for f in pick.fields])
-    return Stream(src.path, kind, pick.fields, unit, time, t, first, integer, values)
+    streams = []
+    for k in sorted(found, key=("gyro", "acc", "mag").index):
+        pick = found[k]
+        unit = pick.unit_hint or next((src.units[f] for f in pick.fields if f in src.units), None)
+        unit = parse_unit(k, unit, strict=False) if unit else None
+        values = np.column_stack([cat[f] for f in pick.fields])
+        streams.append(Stream(src.path, k, pick.fields, unit, time, t, first, integer, values, where=src.where))
+    return streams
 
 
 def _time_unit(stream: Stream, declared: str | None, time_hint: str | None) -> tuple[str, str | None]:
@@ -231,20 +292,16 @@ def merge_streams(
     unit, _ = _time_unit(gyro, time_unit, hint)
     per_s = _PER_S[unit]
     cols: dict[str, np.ndarray] = {"t": gyro.t * per_s}
-    src_presets, sparse, units = {"time": ("t",)}, set(), {}
+    src_presets, sparse, units, located = {"time": ("t",)}, set(), {}, {}
     for kind, stream in streams.items():
         names = stream.fields if stream.qualified else tuple(f"{stream.path.name}/{f}" for f in stream.fields)
         if kind == "gyro":
             values = stream.values
         else:
-            if stream.integer != gyro.integer:
-                what = "integer" if stream.integer else "float"
-                raise ValueError(
-                    f"{stream.path}: its time column {stream.time_field!r} is {what} but the gyro file's is not; "
-                    "the files must share a clock"
-                )
+            # an integer clock beside a float one (a first time written "0") is compared in float: clocks that differ
+            # leave no sample near a gyro row, which is refused below
             rows, times, clock = _common_clock(gyro, unit, stream, time_unit)
-            values = place_on_rows(rows, times, stream.values)
+            values, index = place_on_rows(rows, times, stream.values, index=True)
             # a sensor vanishing is no answer (a file of empty cells is the reader's checks' business)
             if rows.size and np.isnan(values).all() and not np.isnan(stream.values).all():
                 raise ValueError(
@@ -259,9 +316,13 @@ def merge_streams(
             cols[n] = values[:, i]
             if stream.unit:
                 units[n] = stream.unit
+            # where a reading is in its own file, for messages: the gyro's rows are the table's, another
+            # sensor's sample on row r is its row index[r]
+            located[n] = (stream.path, stream.where, None if kind == "gyro" else index)
         src_presets[kind] = names
     src = MemorySource(label, cols, format)
-    src.presets, src.sparse, src.units = src_presets, sparse, units
+    src.presets, src.sparse, src.units, src.located = src_presets, sparse, units, located
+    src.located["t"] = (gyro.path, gyro.where, None)
     kind = origin_kind or origin_of(gyro.first, unit).kind
     src.time_origin = TimeOrigin(gyro.first, unit, kind)
     return src
@@ -290,17 +351,20 @@ def _hint(name: str) -> str | None:
     return split_name(name, "time")[1]
 
 
-def open_streams(paths, kinds: dict | None = None, opener=None) -> dict:
-    """The sensor streams of several files, one per sensor: ``{"gyro": Stream, ...}``.
+def open_streams(paths, kinds: dict | None = None, opener=None, picks: dict | None = None) -> dict:
+    """The sensor streams of several files: ``{"gyro": Stream, ...}``, each sensor from one of them.
 
     Parameters
     ----------
     paths : sequence of pathlib.Path
-        The files.
+        The files; each may hold one sensor or several (:func:`read_streams`).
     kinds : dict of pathlib.Path to str, optional
         The sensor of a file when its name does not tell it.
     opener : callable, optional
         ``opener(path) -> Source`` for each file; by default the CSV reader (a phone export's files are CSV).
+    picks : dict of pathlib.Path to dict, optional
+        Columns given per file and sensor (``{Path("imu.csv"): {"acc": "AccX,AccY,AccZ"}}``): a file named here
+        gives only the sensors named, and those from no other file.
 
     Returns
     -------
@@ -316,18 +380,26 @@ def open_streams(paths, kinds: dict | None = None, opener=None) -> dict:
     if opener is None:
         from .csv import open_csv as opener
 
+    picks = picks or {}
+    given = {k for chosen in picks.values() for k in chosen if k != "time"}
     streams = {}
     for p in paths:
         with opener(p) as src:
-            s = read_stream(src, (kinds or {}).get(p))
-        if s.kind in streams:
-            raise ValueError(f"{p} and {streams[s.kind].path} both hold {s.kind} readings; give one file per sensor")
-        streams[s.kind] = s
+            found = read_streams(src, (kinds or {}).get(p), picks=picks.get(p))
+        for s in found:
+            if s.kind in given and s.kind not in picks.get(p, {}):
+                continue  # that sensor is named in another file
+            if s.kind in streams:
+                raise ValueError(
+                    f"{p} and {streams[s.kind].path} both hold {s.kind} readings; give one file per sensor, or name "
+                    f"the one to use: --{s.kind} {p.name}:{','.join(s.fields)}"
+                )
+            streams[s.kind] = s
     return streams
 
 
 def open_files(
-    paths, format: str | None = None, time_unit: str | None = None, *, opener=None, **options
+    paths, format: str | None = None, time_unit: str | None = None, *, opener=None, picks=None, **options
 ) -> MemorySource:
     r"""Several files of one recording as one table (see the module's description).
 
@@ -342,6 +414,8 @@ def open_files(
     opener : callable, optional
         ``opener(path) -> Source`` for each file (:func:`strapdown.io.open_source` when the files may be of
         any format); CSV by default.
+    picks : dict of pathlib.Path to dict, optional
+        Columns given per file and sensor (:func:`open_streams`).
     **options
         None accepted.
 
@@ -369,7 +443,7 @@ def open_files(
     for p in paths:
         if not p.is_file():
             raise FileNotFoundError(f"no such file: {p}")
-    streams = open_streams(paths, opener=opener)
+    streams = open_streams(paths, opener=opener, picks=picks)
     src = merge_streams(paths[0], streams, "files", time_unit=time_unit)
     if all(first_line(p.parent, p.name).startswith("time,seconds_elapsed,z,y,x") for p in paths):
         src.frame, src.body = "ENU", "RFU"  # Sensor Logger's files given one by one: Android's axes

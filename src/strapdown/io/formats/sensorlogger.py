@@ -103,6 +103,12 @@ def open_sensorlogger(path, time_unit: str | None = None):
     return src
 
 
+def _position(path):
+    from ..position import export_position
+
+    return export_position(path)
+
+
 #: This module's format, for :mod:`strapdown.io.registry`.
 FORMAT = Format(
     "sensorlogger",
@@ -110,4 +116,5 @@ FORMAT = Format(
     detect=_is_export,
     options=("time_unit",),
     description="Sensor Logger export (folder or zip)",
+    position=_position,
 )

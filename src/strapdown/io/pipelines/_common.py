@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._support.version import VERSION
-from ..conventions import GapSplitter, time_metadata
+from ..conventions import GapSplitter, bridge_limit, time_metadata
 from ..imu import ImuColumns
 from ..readers import check_chunk_rows, format_of
 from ..tables import OutputSpec
@@ -22,8 +22,8 @@ from ..writers import table_writer
 CHUNK_ROWS = 1 << 18  # rows in flight: about 400 bytes of memory each, and no speed to gain beyond
 
 
-#: What a file command may do at a time step over ``columns.max_gap`` sample periods.
-ON_GAP = ("error", "split", "restart")
+#: What a file command may do at a time step over ``columns.max_gap`` sample periods (``auto`` first: the default).
+ON_GAP = ("auto", "error", "split", "restart", "bridge")
 
 
 @dataclass(frozen=True)
@@ -46,10 +46,16 @@ class FileOptions:
         Body axes of the output attitudes; by default those that go with ``frame``
         (:func:`strapdown.io.conventions.natural_body`: FRD for NED, FLU for ENU and NWU), so that a level
         vehicle has zero roll and pitch.
-    on_gap : {"error", "split", "restart"}
-        A time step over ``columns.max_gap`` sample periods: a ValueError (default); a new output file per
-        segment (``<stem>-2.csv`` ...) started afresh; or one file started afresh after each gap, with a
-        ``segment`` column.
+    on_gap : {"auto", "error", "split", "restart", "bridge"}
+        A time step over ``columns.max_gap`` sample periods.  ``"auto"`` (default): a gap no longer than
+        ``bridge`` is bridged (the run carries on across it; a ``gap`` column marks the row after it), a longer
+        one starts the run afresh after it (a ``segment`` column counts from 0), each with a warning.  For strict
+        use: ``"error"`` stops with a ValueError; ``"split"`` writes a file per segment (``<stem>-2.csv`` ...),
+        each started afresh; ``"restart"`` starts afresh after every gap (``segment`` column); ``"bridge"``
+        bridges every gap (``gap`` column).
+    bridge : float, optional
+        The longest gap bridged under ``"auto"``, s; by default from the gyro's own errors
+        (:func:`strapdown.io.conventions.bridge_limit`: about 2 s for a quiet consumer gyro, less when it is noisy).
     chunk_rows : int
         Rows per chunk: memory, not results (every chunking gives the same output).
     """
@@ -59,7 +65,8 @@ class FileOptions:
     frame: str | None = None
     body: str | None = None
     out_body: str | None = None
-    on_gap: str = "error"
+    on_gap: str = "auto"
+    bridge: float | None = None
     chunk_rows: int = CHUNK_ROWS
 
     def __post_init__(self):
@@ -70,6 +77,8 @@ class FileOptions:
             object.__setattr__(self, "out", OutputSpec())
         if self.on_gap not in ON_GAP:
             raise ValueError(f"on_gap must be one of {', '.join(ON_GAP)}, got {self.on_gap!r}")
+        if self.bridge is not None and not (isinstance(self.bridge, int | float) and self.bridge >= 0):
+            raise ValueError(f"bridge must be a number of seconds >= 0, got {self.bridge!r}")
         object.__setattr__(self, "chunk_rows", check_chunk_rows(self.chunk_rows))
 
 
@@ -218,7 +227,12 @@ def culprit(imu, chunk, row: int | None = None) -> str:
     fields = imu.picks[kind].fields
     column = fields[j] if len(fields) == 3 else f"{fields[0]}[{j}]"
     unit = "rad" if kind == "gyro" and getattr(imu, "increments", False) else _SI[kind]
-    return f"{imu.where(chunk.row + i)}, column {column} = {getattr(chunk, kind)[i, j]:.4g} {unit}"
+    if hasattr(imu, "locate"):
+        path, where = imu.locate(fields[min(j, len(fields) - 1)], chunk.row + i)
+        where = where if path == imu.path else f"{path}, {where}"
+    else:
+        where = imu.where(chunk.row + i)
+    return f"{where}, column {column} = {getattr(chunk, kind)[i, j]:.4g} {unit}"
 
 
 def rows_text(imu, chunk) -> str:
@@ -242,12 +256,49 @@ def slice_chunk(chunk, a: int, b: int):
     return part
 
 
-class Segments:
-    """The output side of a file command: relative time, gaps (``on_gap``), one writer per segment file."""
+def read_columns(o: FileOptions) -> ImuColumns:
+    """The reader's columns for a file command: its gap check only when gaps stop the run (``on_gap="error"``).
 
-    def __init__(self, imu, output: Path, out: OutputSpec, max_gap: float, on_gap: str, meta: dict):
+    Under any other policy the gaps are the output side's (:class:`Segments`), and the reader's check would stop
+    the run first.
+    """
+    return o.columns if o.on_gap == "error" else replace(o.columns, max_gap=0)
+
+
+def gap_bridge(o: FileOptions, imu) -> float:
+    """The longest gap a run bridges, s.
+
+    Every gap under ``"bridge"``, none under ``"restart"`` and ``"split"``; under ``"auto"`` ``o.bridge``, or the
+    limit of the file's gyro (:func:`~strapdown.io.conventions.bridge_limit`).
+    """
+    if o.on_gap == "bridge":
+        return float("inf")
+    if o.on_gap != "auto":
+        return 0.0
+    return float(o.bridge) if o.bridge is not None else bridge_limit(imu.gyro_noise())
+
+
+def _listing(gaps: list) -> str:
+    shown = "; ".join(f"{a:.6g} s -> {b:.6g} s ({(b - a) * 1e3:.4g} ms)" for a, b in gaps[:5])
+    return shown + (f" and {len(gaps) - 5} more" if len(gaps) > 5 else "")
+
+
+class Segments:
+    """The output side of a file command: relative time, gaps (``on_gap``), one writer per segment file.
+
+    Under ``"auto"`` and ``"bridge"`` every output has a boolean ``gap`` column (True on the first row after a
+    bridged gap), under ``"auto"`` and ``"restart"`` an integer ``segment`` column (0 before the first restart),
+    so that a file's columns do not depend on what its rows hold.
+    """
+
+    def __init__(
+        self, imu, output: Path, out: OutputSpec, max_gap: float, on_gap: str, meta: dict, bridge: float = 0.0
+    ):
         self.imu, self.output, self.out, self.on_gap, self.meta = imu, Path(output), out, on_gap, meta
-        self.splitter = GapSplitter(max_gap, getattr(imu, "period", None)) if on_gap != "error" else None
+        period = getattr(imu, "period", None)
+        self.splitter = GapSplitter(max_gap, period, bridge) if on_gap != "error" else None
+        self.bridge = bridge
+        self.max_gap = max_gap
         self.t_first: float | None = None
         self.writers: dict[int, object] = {}
         self.outputs: list[Path] = []
@@ -255,7 +306,12 @@ class Segments:
         self.rows = 0
         self.segment_of_estimator = -1
         self.current = None  # the chunk in flight, for messages
+        self._ends: list[float] = []  # the first times after bridged gaps not yet written
         self._stack = ExitStack()
+        if on_gap in ("auto", "bridge"):
+            meta["gap"] = "the gap column is True on the first row after a gap that was bridged"
+        if on_gap in ("auto", "restart"):
+            meta["segment"] = "the segment column counts the restarts after gaps (0 before the first)"
 
     def __enter__(self):
         self._stack.__enter__()
@@ -267,12 +323,30 @@ class Segments:
             self.notes[:0] = [f"warning: {w}" for w in getattr(getattr(self.imu, "source", None), "warnings", ())]
             if not self.writers:  # no rows: the reader said so already, but never leave without a file
                 self._writer(0)
-            if self.splitter is not None and self.splitter.gaps:
-                listing = "; ".join(f"{a:.6g} s -> {b:.6g} s" for a, b in self.splitter.gaps[:5])
-                more = f" and {len(self.splitter.gaps) - 5} more" if len(self.splitter.gaps) > 5 else ""
-                how = "a file per segment" if self.on_gap == "split" else "started afresh after each gap"
-                self.notes.append(f"{len(self.splitter.gaps)} gap(s) ({how}): {listing}{more}")
+            self.notes.extend(self._gap_notes())
         return self._stack.__exit__(*exc)
+
+    def _gap_notes(self) -> list[str]:
+        """The warnings about the gaps met: how many, where, and what was done."""
+        if self.splitter is None:
+            return []
+        notes = []
+        steps = f"over {self.max_gap:g} sample periods"
+        others = "--on-gap error, split, restart or bridge treat them otherwise"
+        if self.splitter.bridged:
+            within = "" if self.bridge == float("inf") else f" (each within {self.bridge:.3g} s, "
+            within += "" if not within else "in which the gyro's own errors cost under 1 degree)"
+            notes.append(
+                f"warning: {len(self.splitter.bridged)} gap(s) {steps} bridged{within}, the gap column marks the "
+                f"row after each: {_listing(self.splitter.bridged)}; {others}"
+            )
+        gaps = self.splitter.gaps
+        if gaps:
+            longer = f" longer than {self.bridge:.3g} s" if self.on_gap == "auto" else ""
+            how = {"split": "a file per segment", "restart": "started afresh after each gap, segment column"}
+            what = how.get(self.on_gap, "started afresh after each (segment column): the attitude before it is lost")
+            notes.append(f"warning: {len(gaps)} gap(s) {steps}{longer} ({what}): {_listing(gaps)}; {others}")
+        return notes
 
     def t(self, chunk) -> np.ndarray:
         """Seconds from the first sample of the file."""
@@ -287,14 +361,20 @@ class Segments:
             self.meta["time_first_input_s"] = repr(self.t_first)
 
     def pieces(self, chunks):
-        """(segment, chunk) in order, the chunks cut at the gaps."""
+        """(segment, chunk) in order, the chunks cut at the gaps that restart the run."""
         seg = 0
         for chunk in chunks:
             n = chunk.t.shape[0]
             if not n:
                 continue
             self._start(chunk)
-            cuts = [] if self.splitter is None else list(self.splitter(self.t(chunk)))
+            if self.splitter is None:
+                cuts = []
+            else:
+                t = self.t(chunk)
+                found, bridged = self.splitter.split(t)
+                cuts = list(found)
+                self._ends.extend(t[bridged].tolist())
             start = 0
             for i in [*cuts, n]:
                 if i > start:
@@ -317,9 +397,19 @@ class Segments:
         return self.writers[key]
 
     def write(self, seg: int, columns: dict) -> None:
-        if self.on_gap == "restart":
-            columns["segment"] = np.full(len(columns["t"]), seg, dtype=np.int32)
+        """Write the output columns of rows of segment ``seg`` (with the ``gap`` and ``segment`` columns)."""
+        n = len(columns["t"])
+        if self.on_gap in ("auto", "bridge"):
+            gap = np.zeros(n, dtype=bool)
+            if self._ends:
+                ends = np.asarray(self._ends)
+                gap = np.isin(columns["t"], ends)
+                if n:  # the ends written are done with; those after this block wait for theirs
+                    self._ends = ends[ends > columns["t"][-1]].tolist()
+            columns["gap"] = gap
+        if self.on_gap in ("auto", "restart"):
+            columns["segment"] = np.full(n, seg, dtype=np.int32)
         w = self._writer(seg)
         # attitude_columns made new arrays for every chunk: no copy needed
         w.write(columns, copy=False)
-        self.rows += len(columns["t"])
+        self.rows += n

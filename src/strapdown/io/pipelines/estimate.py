@@ -11,16 +11,19 @@ import numpy as np
 from .._ahead import ReadAhead
 from ..conventions import output_metadata, resolve_axes
 from ..imu import ImuFile
+from ..plausibility import gravity_warning
 from ..tables import _attitude_columns, flag_bits
 from ._common import (
     FileOptions,
     Report,
     Segments,
     culprit,
+    gap_bridge,
     input_paths,
     metadata,
     options_of,
     output_path,
+    read_columns,
     rows_text,
     with_progress,
 )
@@ -72,8 +75,11 @@ class EstimateOptions(FileOptions):
         Calibrations by sensor (``"gyro"``, ``"acc"``, ``"mag"``, as
         :func:`strapdown.calibrate.load` returns them), applied to the readings in their own axes before
         anything else.
-    declination : float, optional
+    declination : float or "auto", optional
         Magnetic declination (radians, east positive): the 9D heading is turned from magnetic to true north.
+        ``"auto"``: the World Magnetic Model's at the place and date the log records (its GPS:
+        :func:`strapdown.io.reference.log_position`; the ``geomag`` extra), named in the notes and the metadata;
+        a ValueError when the log records none.
         The metadata says which (``heading`` = ``true``, ``magnetic`` or ``free`` for 6D).
     noise : {"default", "adapt"}
         ``"adapt"``: the estimator's noise parameters from the sensor's noise model
@@ -92,7 +98,7 @@ class EstimateOptions(FileOptions):
     mag: bool | None = None
     q0: object = None
     calibration: object = None
-    declination: float | None = None
+    declination: float | str | None = None
     noise: str = "default"
 
 
@@ -118,8 +124,10 @@ def estimate_file(path, output=None, options: EstimateOptions | None = None, *, 
     -----
     Output columns: ``t`` (s from the first sample), ``qw..qz``, Euler angles, ``bias_*`` (the unit in the
     name), ``flags`` (bit mask of :func:`strapdown.io.tables.flag_bits`) and one boolean column per flag:
-    ``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``.  Metadata:
-    :mod:`strapdown.io.conventions`.
+    ``rest``, ``acc_rejected``, ``mag_rejected``, ``inverted``, ``bias_at_limit``, and ``heading_free``: True
+    where no magnetometer sample has set the heading yet (every row of a 6D run; in 9D the rows before the first
+    field, and after a restart until the next).  Under the default ``on_gap`` also ``gap`` and ``segment``
+    (:class:`~strapdown.io.pipelines.FileOptions`).  Metadata: :mod:`strapdown.io.conventions`.
 
     Examples
     --------
@@ -138,17 +146,16 @@ def estimate_file(path, output=None, options: EstimateOptions | None = None, *, 
     o = options_of(EstimateOptions, options, changes, "estimate_file")
     run = _Estimation(o)
     output = output_path(path, output, "estimate", o.out.format)
-    gap_limit = o.columns.max_gap if o.on_gap != "error" else 0
-    columns = replace(o.columns, max_gap=0) if o.on_gap != "error" else o.columns  # gaps are cut here
+    columns = read_columns(o)
     with ImuFile(path, columns, require=run.require, optional=run.optional) as imu:
         meta = run.start(imu, path)
-        out = Segments(imu, output, o.out, gap_limit, o.on_gap, meta)
+        out = Segments(imu, output, o.out, o.columns.max_gap, o.on_gap, meta, gap_bridge(o, imu))
         with out, ReadAhead(imu.chunks(o.chunk_rows)) as chunks:
             for seg, chunk in out.pieces(with_progress(chunks, imu.rows, progress)):
                 out.write(seg, run.chunk(imu, path, out, seg, chunk))
         report = Report(input_paths(path)[0], out.outputs[0], out.rows, time.perf_counter() - t_start, imu.describe())
         report.notes.append(f"{o.estimator} {'9D' if run.use_mag else '6D'}, {run.axes.describe()}")
-        report.notes.extend(out.notes)
+        report.notes.extend(run.warnings + out.notes)
         report.outputs = out.outputs
         return report
 
@@ -182,6 +189,8 @@ class _Estimation:
         if o.noise == "adapt" and o.estimator not in ("attitude", "tilt"):
             raise ValueError(f"noise='adapt' sets AttitudeEstimator and TiltEstimator parameters, not {o.estimator}'s")
         self.noise = None  # the NoiseModel in use, once known
+        self.heading_known = False
+        self.warnings: list[str] = []
 
     def start(self, imu, path) -> dict:
         """Check the file against the estimator and calibrations; the output's metadata."""
@@ -196,10 +205,17 @@ class _Estimation:
         self.axes = resolve_axes(imu, o.frame, o.body, o.out_body)
         self.use_mag = "mag" in imu.picks
         check_axes(self.calibrations, self.axes.sensor, self.axes.declared)
+        upside_down = gravity_warning(imu, self.axes.sensor, self.axes.declared)
+        self.warnings += [upside_down] if upside_down else []
         meta = metadata("estimate", estimator=o.estimator, mode="9D" if self.use_mag else "6D")
-        meta.update(heading_metadata(self.use_mag, o.declination, self.calibrations))
+        self.declination = self._declination(imu, path)
+        meta.update(heading_metadata(self.use_mag, self.declination, self.calibrations))
+        if self.place is not None:
+            meta["declination_place"] = self.place.describe()
         meta.update(self.axes.metadata())
         meta.update(output_metadata(o.out, bias=self.cls.estimates_bias, flags=self.cls.reports_flags))
+        if o.out.flags:
+            meta["heading_free"] = "True where no magnetometer sample has set the heading yet (every row in 6D)"
         gyro_cal = self.calibrations.get("gyro")
         if o.noise == "adapt" and gyro_cal is not None and _has_noise(gyro_cal):
             from ...calibrate import NoiseModel
@@ -221,6 +237,30 @@ class _Estimation:
         meta.update(model.metadata())
         meta["noise_params"] = ", ".join(f"{k}={v:.6g}" for k, v in sorted(changes.items())) or "none"
 
+    def _declination(self, imu, path):
+        """The declination in radians: as given, or (``"auto"``) the model's at the log's own place and date."""
+        self.place = None
+        given = self.o.declination
+        if not isinstance(given, str):
+            return given
+        if given != "auto":
+            raise ValueError(f"declination must be radians or 'auto', got {given!r}")
+        if not self.use_mag:
+            raise ValueError("a declination needs the magnetometer (9D): a 6D heading has no north to correct")
+        from ...calibrate import declination
+        from ..reference import log_position
+
+        self.place = log_position(path, imu.format if imu.format != "files" else None)
+        if self.place is None:
+            raise ValueError(
+                f"{path} records no GPS position and date (a GPS topic, a Location file): --declination auto "
+                "needs --lat, --lon and --date for it"
+            )
+        p = self.place
+        degrees = float(declination(latitude=p.latitude_deg, longitude=p.longitude_deg, date=p.date, degrees=True))
+        self.warnings.append(f"declination {degrees:.3f}° east (World Magnetic Model at {p.describe()})")
+        return float(np.radians(degrees))
+
     def chunk(self, imu, path, out: Segments, seg: int, chunk) -> dict:
         """The output columns of one chunk of one segment (a new segment starts the estimator afresh)."""
         o, axes = self.o, self.axes
@@ -230,12 +270,13 @@ class _Estimation:
             # a new segment starts from its own first sample; q0 is the first segment's only
             self.est = self.cls(self.params, q0=o.q0 if self.est is None else None, frame=axes.frame)
             out.segment_of_estimator = seg
+            self.heading_known = False  # a restart knows no heading until its first field
         timing = {"dt": 1.0 / imu.rate} if imu.rate else {"t": chunk.t}
         extra = {k: axes.rotate(v) if k == "known_acc" else v for k, v in chunk.extra.items()}
         gyro, acc, mag = calibrated(self.calibrations, chunk.gyro, chunk.acc, chunk.mag if self.use_mag else None)
         mag = axes.rotate(mag) if self.use_mag else None
         try:
-            e = self.est.update(axes.rotate(gyro), axes.rotate(acc), mag, **timing, **extra)
+            e, free = self._update(axes.rotate(gyro), axes.rotate(acc), mag, timing, extra)
         except ValueError as exc:  # the estimator's own words name its arrays, not the file
             k = getattr(exc, "sample", None)  # strapdown._support.validate.SampleError: one sample of the chunk
             where = rows_text(imu, chunk) if k is None else imu.where(chunk.row + k)
@@ -248,11 +289,50 @@ class _Estimation:
             )
         at_limit = self._at_limit(e, imu, out, chunk)
         q = e.q
-        if o.declination is not None:
+        if self.declination is not None:
             from ...calibrate import to_true_north
 
-            q = to_true_north(q, o.declination, frame=axes.frame)
-        return _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
+            q = to_true_north(q, self.declination, frame=axes.frame)
+        cols = _attitude_columns(chunk.t, q, o.out, e.bias, e.flags, at_limit, check=False, t0=out.t_first)
+        if o.out.flags:
+            cols["heading_free"] = free
+        return cols
+
+    def _update(self, gyro, acc, mag, timing: dict, extra: dict):
+        """The estimator's update on one chunk, and its rows whose heading is still free (no field has set it).
+
+        In 6D every row's heading is free.  In 9D a row's heading is free until the first magnetometer sample
+        has set it: for the AttitudeEstimator, until its first heading update (``mag_updates`` in its state,
+        at most one block of ``1 / update_rate`` after the first sample), so the chunk is run in parts around
+        that row (an update on parts equals one on the whole); for the others, until the first sample.
+        """
+        n = gyro.shape[0]
+        if not self.use_mag or self.heading_known:
+            return self.est.update(gyro, acc, mag, **timing, **extra), np.full(n, not self.use_mag)
+        seen = np.isfinite(mag).all(axis=1)
+        if not seen.any():
+            return self.est.update(gyro, acc, mag, **timing, **extra), np.ones(n, dtype=bool)
+        first = int(np.argmax(seen))
+
+        def part(a, b):
+            cut = {k: v[a:b] for k, v in timing.items() if k == "t"} or timing
+            return self.est.update(gyro[a:b], acc[a:b], mag[a:b], **cut, **{k: v[a:b] for k, v in extra.items()})
+
+        # the rows up to the first field and that field's own row (the heading it sets shows from the next)
+        parts, free = [part(0, first + 1)], np.ones(n, dtype=bool)
+        row = first + 1
+        if "mag_updates" not in (self.est.state or {}):  # no way to tell its first heading update: the sample's
+            self.heading_known = True
+        else:
+            self.heading_known = bool(self.est.state["mag_updates"])
+        while row < n and not self.heading_known:
+            parts.append(part(row, row + 1))
+            self.heading_known = bool(self.est.state["mag_updates"])
+            row += 1
+        if row < n:
+            parts.append(part(row, n))
+        free[row:] = False
+        return _joined(parts), free
 
     def _measure_noise(self, imu, chunk, meta: dict) -> None:
         """The noise model from the rests of the first chunk (the metadata is written with its first rows)."""
@@ -285,6 +365,20 @@ class _Estimation:
 
 def _has_noise(cal) -> bool:
     return "arw" in cal.quality or ("noise" in cal.quality and bool(cal.quality.get("fs")))
+
+
+def _joined(parts):
+    """One Estimate of the Estimates of consecutive rows."""
+    from ...fusion.estimate import Estimate
+
+    if len(parts) == 1:
+        return parts[0]
+
+    def cat(name):
+        values = [getattr(p, name) for p in parts]
+        return None if values[0] is None else np.concatenate(values)
+
+    return Estimate(q=cat("q"), frame=parts[0].frame, bias=cat("bias"), flags=cat("flags"))
 
 
 def _bias_warning(bias, limit: float, t: float, where: str) -> str:

@@ -18,10 +18,12 @@ from ._common import (
     FileOptions,
     Report,
     Segments,
+    gap_bridge,
     input_paths,
     metadata,
     options_of,
     output_path,
+    read_columns,
     rows_text,
     with_progress,
 )
@@ -166,13 +168,12 @@ def integrate_file(path, output=None, options: IntegrateOptions | None = None, *
     t_start = time.perf_counter()
     o = options_of(IntegrateOptions, options, changes, "integrate_file")
     output = output_path(path, output, "integrate", o.out.format)
-    gap_limit = o.columns.max_gap if o.on_gap != "error" else 0
-    columns = replace(o.columns, max_gap=0) if o.on_gap != "error" else o.columns
+    columns = read_columns(o)
     stream = {"method": o.method, "input": o.input, "rate_frame": o.rate_frame, "q0": o.q0}
     with ImuFile(path, columns, require=("gyro",), increments=o.input == "increment") as imu:
         axes, frames = integrate_axes(imu, o.frame, o.body, o.out_body, o.rate_frame, o.out)
         meta = {**metadata("integrate", method=o.method or "default", input=o.input, rate_frame=o.rate_frame), **frames}
-        run = Segments(imu, output, o.out, gap_limit, o.on_gap, meta)
+        run = Segments(imu, output, o.out, o.columns.max_gap, o.on_gap, meta, gap_bridge(o, imu))
         # the next chunks are read and checked by a thread of their own while this one is integrated
         with run, ReadAhead(imu.chunks(o.chunk_rows)) as chunks:
             pieces = run.pieces(with_progress(chunks, imu.rows, progress))

@@ -60,6 +60,7 @@ def plot_file(
     angles: Angles | None = None,
     max_points: int = 200_000,
     format: str | None = None,
+    names: tuple | None = None,
 ) -> list[Path]:
     """Write PNG figures of an attitude file: angles over time; errors (with a truth); bias (when present).
 
@@ -83,6 +84,9 @@ def plot_file(
         Rows drawn at most (long files are thinned evenly).
     format : str, optional
         Format of ``path`` and ``truth`` when the suffix does not tell it.
+    names : (str, str), optional
+        The names the titles give ``path`` and ``truth`` (by default their file names): the inputs' own, when
+        these are scratch copies put on one time line (``plot --truth LOG``).
 
     Returns
     -------
@@ -102,12 +106,13 @@ def plot_file(
     """
     path = Path(path)
     out = path.parent if out is None else Path(out)
-    figures = _file_figures(path, truth, angles or Angles(), max_points, format)
+    figures = _file_figures(path, truth, angles or Angles(), max_points, format, names)
     return save_figures({out / f"{path.stem}_{name}.png": fig for name, fig in figures.items()})
 
 
-def _file_figures(path: Path, truth, angles: Angles, max_points: int, format) -> dict:
+def _file_figures(path: Path, truth, angles: Angles, max_points: int, format, names: tuple | None = None) -> dict:
     """The figures of :func:`plot_file` by name ("angles", "errors", "bias"), nothing written."""
+    names = names or (path.name, None if truth is None else Path(truth).name)
     plt = pyplot()
     with open_source(path, format) as src:
         fields = dict(src.fields)
@@ -140,8 +145,8 @@ def _file_figures(path: Path, truth, angles: Angles, max_points: int, format) ->
     figures = {}
     try:
         fig, axes = angles_figure(plt, t, q_true, {path.stem: q}, angles, 10.0, xlabel)
-        against = f" against the truth {Path(truth).name}{note}" if truth is not None else ""
-        axes[0].set_title(f"{path.name}: Euler angles ({angles.seq}){against}")
+        against = f" against the truth {names[1]}{note}" if truth is not None else ""
+        axes[0].set_title(f"{names[0]}: Euler angles ({angles.seq}){against}")
         figures["angles"] = fig
 
         if q_true is not None:
@@ -155,15 +160,13 @@ def _file_figures(path: Path, truth, angles: Angles, max_points: int, format) ->
                 (name, errors[name] * scale, {**style, "lw": lw})
                 for (name, lw), style in zip(widths.items(), line_styles(3), strict=True)
             ]
-            title = f"{path.name}: attitude error against {Path(truth).name}{note}"
+            title = f"{names[0]}: attitude error against {names[1]}{note}"
             figures["errors"] = time_series_figure(plt, t, lines, f"error [{unit}]", xlabel, title)
 
         if bias_names:
             styles = line_styles(len(bias_names))
             lines = [(n, data[n], style) for n, style in zip(bias_names, styles, strict=True)]
-            figures["bias"] = time_series_figure(
-                plt, t, lines, "gyro bias", xlabel, f"{path.name}: estimated gyro bias"
-            )
+            figures["bias"] = time_series_figure(plt, t, lines, "gyro bias", xlabel, f"{names[0]}: estimated gyro bias")
     except BaseException:
         for fig in figures.values():
             plt.close(fig)

@@ -139,7 +139,7 @@ def integrate_split(
     options : IntegrateOptions, optional
         As for :func:`~strapdown.io.integrate_file`; ``method`` one of ``SPLIT_METHODS``, or None when the
         default for ``input`` is one (:func:`check_split`).  Gaps stop a split integration (``on_gap`` must be
-        ``"error"``), as ``integrate_file``'s default does.
+        ``"error"`` or the default, which means the same here): integrate the file whole to bridge them.
     **changes
         Fields of :class:`~strapdown.io.pipelines.IntegrateOptions` to replace, by name.
     progress : callable, optional
@@ -176,7 +176,7 @@ def integrate_split(
     t_start = time.perf_counter()
     o = options_of(IntegrateOptions, options, changes, "integrate_split")
     method = check_split(parts, o.method, o.input)
-    if o.on_gap != "error":
+    if o.on_gap not in ("auto", "error"):
         raise ValueError(f"a split integration stops at gaps (on_gap='error'), got on_gap={o.on_gap!r}")
     columns, out, input, rate_frame, chunk_rows = o.columns, o.out, o.input, o.rate_frame, o.chunk_rows
     output = output_path(path, output, "integrate", out.format)

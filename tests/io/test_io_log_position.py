@@ -22,12 +22,13 @@ LOGS = sorted(PX4.glob("*.ulg"))
 
 
 def _gps(path):
-    """The log's fixes read here with pyulog directly: the median place, the UTC date of the first fix."""
+    """The log's first 3D fix with a UTC time, read here with pyulog directly: its place and UTC date."""
     from pyulog import ULog
 
     d = ULog(str(path), ["vehicle_gps_position"]).data_list[0].data
-    utc = d["time_utc_usec"][0] / 1e6
-    return np.median(d["lat"]) * 1e-7, np.median(d["lon"]) * 1e-7, dt.datetime.fromtimestamp(utc, dt.UTC)
+    i = int(np.argmax((d["fix_type"] >= 3) & (d["time_utc_usec"] > 0)))
+    utc = d["time_utc_usec"][i] / 1e6
+    return d["lat"][i] * 1e-7, d["lon"][i] * 1e-7, dt.datetime.fromtimestamp(utc, dt.UTC)
 
 
 @pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)

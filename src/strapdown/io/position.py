@@ -74,7 +74,8 @@ def _fixes(lat, lon, alt, utc, source: str, path) -> LogPosition | None:
 
 
 def ulog_position(path) -> LogPosition | None:
-    """A PX4 ULog's place and date from its GPS topics (``vehicle_gps_position``, else ``sensor_gps``).
+    """A PX4 ULog's place and date: its first 3D GPS fix (the ULog reader's ``position`` hook, read a block at a
+    time: :func:`strapdown.io.formats.ulog.read_position`).
 
     Parameters
     ----------
@@ -84,35 +85,18 @@ def ulog_position(path) -> LogPosition | None:
     Returns
     -------
     LogPosition or None
-        None when the log holds no fix with a UTC time.
+        None when the log holds no 3D fix with a UTC time.
 
     Examples
     --------
     >>> from strapdown.io.position import ulog_position
-    >>> ulog_position("tests/data/px4/sample_log_small.ulg").describe()[:40]   # doctest: +SKIP
-    '63.41706 N, 10.40821 E on 2021-04-21 (ve'
+    >>> ulog_position("tests/data/px4/sample_log_small.ulg").describe()[:40]
+    '63.41706 N, 10.40822 E on 2021-04-21 (ve'
     """
-    from pyulog import ULog
+    from .formats.ulog import read_position
 
-    topics = ("vehicle_gps_position", "sensor_gps")
-    ulog = ULog(str(path), list(topics))
-    for name in topics:
-        for d in ulog.data_list:
-            if d.name != name or "time_utc_usec" not in d.data:
-                continue
-            data = d.data
-            if "latitude_deg" in data:
-                lat, lon = data["latitude_deg"], data["longitude_deg"]
-                alt = data.get("altitude_msl_m")
-            elif "lat" in data:
-                lat, lon = data["lat"] * 1e-7, data["lon"] * 1e-7
-                alt = data["alt"] * 1e-3 if "alt" in data else None
-            else:
-                continue
-            found = _fixes(lat, lon, alt, data["time_utc_usec"], name, path)
-            if found is not None:
-                return found
-    return None
+    found = read_position(path)
+    return None if found is None else LogPosition(**found)
 
 
 _LOCATION_NAMES = ("location.csv",)

@@ -478,13 +478,6 @@ def _is_ulog(path: Path) -> bool:
         return f.read(7) == ULOG_MAGIC
 
 
-def _position(path):
-    # io.position's reader (its LogPosition names the topic and the number of fixes) rather than read_position
-    from ..position import ulog_position
-
-    return ulog_position(path)
-
-
 #: This module's format, for :mod:`strapdown.io.registry`.
 FORMAT = Format(
     "ulog",
@@ -494,5 +487,5 @@ FORMAT = Format(
     options=("topic", "mag_topic"),
     description="PX4 ULog (pyulog, read a block at a time)",
     reference=reference,
-    position=_position,
+    position=read_position,
 )

@@ -74,8 +74,9 @@ def _fixes(lat, lon, alt, utc, source: str, path) -> LogPosition | None:
 
 
 def ulog_position(path) -> LogPosition | None:
-    """A PX4 ULog's place and date: its first 3D GPS fix (the ULog reader's ``position`` hook, read a block at a
-    time: :func:`strapdown.io.formats.ulog.read_position`).
+    """A PX4 ULog's place and date: its first 3D GPS fix.
+
+    The ULog reader's ``position`` hook, read a block at a time (:func:`strapdown.io.formats.ulog.read_position`).
 
     Parameters
     ----------

@@ -80,13 +80,13 @@ def ulog_position(path) -> LogPosition | None:
 
     Parameters
     ----------
-    path : path-like
-        The ``.ulg`` file.
+    path : str or pathlib.Path
+        The ULog.
 
     Returns
     -------
     LogPosition or None
-        None when the log holds no 3D fix with a UTC time.
+        Its fields as the hook gives them; None without a 3D fix that has a UTC time.
 
     Examples
     --------

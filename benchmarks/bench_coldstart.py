@@ -74,6 +74,13 @@ for name, call in (
     out[name + ", second call"] = time.perf_counter() - t0
 if compiled is not None:
     out["kernels compiled"] = len(compiled)
+try:  # the kernels a first call ran uncompiled are compiled by a background worker: the next process needs them
+    from strapdown._support.uncompiled import wait_for_background
+    t0 = time.perf_counter()
+    wait_for_background()
+    out["then waited for the background compile"] = time.perf_counter() - t0
+except ImportError:
+    pass
 print(json.dumps(out))
 """
 )
@@ -92,6 +99,13 @@ except SystemExit as exc:
 out = {"strapdown estimate, 3 min at 200 Hz (in process)": time.perf_counter() - t0}
 if compiled is not None:
     out["kernels compiled"] = len(compiled)
+try:  # the kernels a first call ran uncompiled are compiled by a background worker: the next process needs them
+    from strapdown._support.uncompiled import wait_for_background
+    t0 = time.perf_counter()
+    wait_for_background()
+    out["then waited for the background compile"] = time.perf_counter() - t0
+except ImportError:
+    pass
 print(json.dumps(out))
 """
 )
@@ -105,7 +119,9 @@ def child(code: str, cache: str, src: str, *args: str) -> dict:
     if res.returncode:
         raise RuntimeError(f"child process failed:\n{res.stderr[-2000:]}")
     out = json.loads(res.stdout.strip().splitlines()[-1])
-    out["process wall time"] = wall
+    # what the user waits for: the process less its wait for the background worker (which only the benchmark
+    # does, so that the next process finds the cache filled)
+    out["process wall time"] = wall - out.get("then waited for the background compile", 0.0)
     out["load average"] = os.getloadavg()[0]
     return out
 
@@ -137,9 +153,8 @@ def one_tree(src: str, root: str, csv: str) -> dict[str, dict]:
     for key in ("cold estimate", "warm estimate"):
         if os.path.exists(out):
             os.remove(out)
-        t0 = time.perf_counter()
         runs[key] = child(ESTIMATE, cache, src, csv, out)
-        runs[key]["strapdown estimate, process wall time"] = time.perf_counter() - t0
+        runs[key]["strapdown estimate, process wall time"] = runs[key]["process wall time"]
     warmed = tempfile.mkdtemp(dir=root)
     t0 = time.perf_counter()
     done = subprocess.run(

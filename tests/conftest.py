@@ -10,6 +10,11 @@ import numpy as np
 import pytest
 from hypothesis import settings
 
+# Kernels compile at their first call in the tests, as before strapdown._support.uncompiled (its own tests turn
+# the uncompiled runs and the background worker on where they check them); children of the tests inherit this.
+os.environ.setdefault("STRAPDOWN_UNCOMPILED", "never")
+os.environ.setdefault("STRAPDOWN_BACKGROUND_COMPILE", "0")
+
 # CI runs are deterministic (a red run must be reproducible); HYPOTHESIS_PROFILE=explore searches afresh.
 # No deadline: the first call of a function loads or compiles its numba kernel.
 settings.register_profile("ci", deadline=None, derandomize=True, max_examples=300)

@@ -1,5 +1,7 @@
 """The warm-up step (:mod:`strapdown.apps.warmup`, ``strapdown warmup``): which tasks run, and bad task names."""
 
+import json
+import os
 import subprocess
 import sys
 
@@ -44,3 +46,18 @@ def test_every_task_runs(task):
     # each task calls real entry points: a wrong import or a renamed argument shows here, not in `make demo`
     times = warmup(dtypes=(np.float64,), tasks=[task])
     assert list(times) == [f"{task} float64"]
+
+
+def test_the_warmup_compiles_even_where_short_calls_would_run_uncompiled(tmp_path):
+    # a first short call runs its kernel uncompiled (strapdown._support.uncompiled); the warm-up is there to compile
+    code = (
+        "import json\nfrom strapdown._support.kernel_cache import count_compilations, cached\n"
+        "c = count_compilations()\n"
+        "from strapdown.apps.warmup import warmup\nimport numpy\nwarmup(dtypes=(numpy.float64,), tasks=['files'])\n"
+        "print(json.dumps([c, cached('io/_columns_numba.py', 'quat_euler_columns')]))"
+    )
+    env = {"STRAPDOWN_CACHE_DIR": str(tmp_path), "STRAPDOWN_UNCOMPILED": "auto", "STRAPDOWN_BACKGROUND_COMPILE": "0"}
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env={**os.environ, **env})
+    assert res.returncode == 0, res.stderr
+    compiled, cached = json.loads(res.stdout.strip().splitlines()[-1])
+    assert "strapdown.io._columns_numba.quat_euler_columns" in compiled and cached

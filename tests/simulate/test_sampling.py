@@ -120,3 +120,19 @@ def test_bad_arguments():
         sample(hammerhead_loop(), 10.0, duration=0.01)
     with pytest.raises(ValueError, match="stop must come after start"):
         MagneticDisturbance(5.0, 4.0)
+
+
+def test_a_duration_is_what_the_file_lasts_or_refused():
+    # `strapdown simulate --scenario random --duration 180` wrote 60 s (the scenario's default) without a word
+    from strapdown.simulate.scenarios import scenario
+
+    for name in ("random", "coning", "rocking"):
+        assert scenario(name, 180.0).duration == 180.0
+    data = sample(scenario("random", 30.0), 50.0, duration=30.0)
+    assert data.t[-1] == pytest.approx(30.0, abs=0.02)
+    with pytest.raises(ValueError, match=r"duration=100 s is longer than the hammerhead-loop scenario \(30 s\)"):
+        scenario("hammerhead-loop", 100.0)
+    with pytest.raises(ValueError, match=r"duration=31 s is longer than the trajectory \(30 s\)"):
+        sample(hammerhead_loop(), 10.0, duration=31.0)
+    with pytest.raises(ValueError, match="duration must be a number of seconds > 0"):
+        scenario("random", 0.0)

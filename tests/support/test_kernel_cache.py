@@ -72,6 +72,7 @@ def test_the_notice_names_what_a_first_run_compiles(tmp_path, monkeypatch):
     monkeypatch.setattr(kernel_cache, "folder", lambda: tmp_path / "empty")
     notice = compiling_notice(["estimator:attitude", "files"])
     assert notice.startswith("compiling the attitude estimator and the output columns for this machine, once")
+    assert "in the background while a short input runs uncompiled" in notice
     assert f"about {FIRST_RUN['estimator:attitude'][2] + FIRST_RUN['files'][2]} s" in notice
     # once the kernels are in the folder, nothing is said
     for module, function in FIRST_RUN["estimator:attitude"][1] + FIRST_RUN["files"][1]:

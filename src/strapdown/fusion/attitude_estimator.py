@@ -119,6 +119,10 @@ from .saturation import ACC_FLOOR, GYRO_FLOOR, bridged, clipped_components, rest
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude"]
 
 _DEG = np.pi / 180.0
+# the kernel run uncompiled, seconds per sample (9D measured 40 µs, 6D 23 µs, on the reference machine of
+# docs/guide/performance.md): what a first call costs while the kernel compiles in the background
+# (_support/uncompiled.py)
+_UNCOMPILED_S_PER_SAMPLE = 5e-5
 
 
 @dataclass(frozen=True)
@@ -501,6 +505,7 @@ class AttitudeEstimator(Estimator):
 
     def _run_piece(self, gyro, acc, mag, dts, b, e):
         """The kernel over samples b..e-1: (its PiecewiseEstimate, the sums of squares of its inputs)."""
+        from .._support import uncompiled
         from . import _attitude_numba as k
 
         if b or e < gyro.shape[0]:
@@ -531,7 +536,8 @@ class AttitudeEstimator(Estimator):
         seg_val = np.empty((2, n_seg_max, 3))  # bias, sigma
         m = mag if mag is not None else np.zeros((1, 3))
         squares = np.zeros(3)
-        n_seg = k.run(gyro, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
+        args = (gyro, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
+        n_seg = uncompiled.call(k.run, *args, python_seconds=n * _UNCOMPILED_S_PER_SAMPLE)
         for name, off, size in _LAYOUT:
             st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
         st["covariance"] = P

@@ -362,6 +362,7 @@ class TiltEstimator(Estimator):
         return None if self._state is None else self._state.get("scale", np.zeros(3)).copy()
 
     def _run(self, gyro, acc, mag, dts, extra_in):
+        from .._support import uncompiled
         from . import _tilt_numba as k
 
         n = gyro.shape[0]
@@ -395,7 +396,8 @@ class TiltEstimator(Estimator):
                 st.get("scale", np.zeros(3)),
             ]
         )
-        k.run(
+        uncompiled.call(  # uncompiled, 22 µs a sample measured (_support/uncompiled.py)
+            k.run,
             gyro,
             acc,
             dts,
@@ -417,6 +419,7 @@ class TiltEstimator(Estimator):
             out,
             bias,
             flags,
+            python_seconds=3e-5 * n,
         )
         st["q_gyro"], st["q_correction"], st["bias"] = s[k.QG : k.QG + 4], s[k.QC : k.QC + 4], s[k.BIAS : k.BIAS + 3]
         st["q_correction_previous"], st["q"] = s[k.QCP : k.QCP + 4], s[k.Q : k.Q + 4]

@@ -159,6 +159,9 @@ def _attitude_columns(t, q, spec, bias=None, flags=None, bias_at_limit=None, *, 
     return cols
 
 
+_UNCOMPILED_S_PER_ROW = 2.5e-5  # the columns' kernel run uncompiled (_support/uncompiled.py), measured
+
+
 def _attitude_block(q, spec: OutputSpec, check: bool, dtype, new=np.empty) -> np.ndarray:
     """Quaternion and (with ``spec.euler``) Euler columns as the rows of a C-ordered (4 or 7, N) array from ``new``.
 
@@ -170,12 +173,14 @@ def _attitude_block(q, spec: OutputSpec, check: bool, dtype, new=np.empty) -> np
     qe = _v.rotations(q, "q", check=check)  # what as_euler would convert (after its check, rescaled rows)
     out = new((7 if spec.euler else 4, len(q)), dtype)
     if len(q):
+        from .._support.uncompiled import call
         from ._columns_numba import quat_euler_columns
 
         i, j, k, proper, sign, intrinsic, scale, half, full = _kernel_args(spec.angles.seq, spec.angles.degrees)
         positive = spec.angles.range == "positive"
         qe = np.ascontiguousarray(qe)
-        quat_euler_columns(q, qe, spec.euler, i, j, k, proper, sign, intrinsic, scale, half, full, positive, out)
+        args = (q, qe, spec.euler, i, j, k, proper, sign, intrinsic, scale, half, full, positive, out)
+        call(quat_euler_columns, *args, python_seconds=_UNCOMPILED_S_PER_ROW * len(q))
     return out
 
 

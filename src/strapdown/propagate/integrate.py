@@ -444,6 +444,7 @@ class AttitudeIntegrator:
         return run_baseline(self, w0, wm, w1, hs)
 
     def _run_step_kind(self, g, h, out=None) -> np.ndarray:
+        from .._support import uncompiled
         from . import _integrate_numba as k
 
         st = self._state
@@ -480,7 +481,9 @@ class AttitudeIntegrator:
             st.q[0] = q
             st.counter = 0
         else:
-            st.counter = k.sequential(g, h, hstep, self.scale, kind, norm, self.normalize_every, st.counter, st.q, out)
+            args = (g, h, hstep, self.scale, kind, norm, self.normalize_every, st.counter, st.q, out)
+            # 12 µs a sample uncompiled (_support/uncompiled.py): a short first call need not wait for the compiler
+            st.counter = uncompiled.call(k.sequential, *args, python_seconds=12e-6 * n_bodies * n)
         return out
 
 

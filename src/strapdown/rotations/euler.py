@@ -38,6 +38,7 @@ from .._support import validate as _v
 __all__ = ["as_euler", "from_euler"]
 
 _AXIS = {"x": 0, "y": 1, "z": 2}
+_UNCOMPILED_S_PER_ROW = 2e-5  # the kernels run uncompiled, a first call's (_support/uncompiled.py)
 
 
 def _parse_seq(seq) -> tuple[bool, tuple[int, int, int]]:
@@ -128,9 +129,11 @@ def from_euler(angles, seq: str = "ZYX", degrees: bool = False, *, check: bool =
     else:  # extrinsic: q = e_3(γ) ⊗ e_2(β) ⊗ e_1(α)
         order_axes, order_cols = axes[::-1], (2, 1, 0)
     out = np.empty((rows.shape[0], 4), dtype=angles.dtype)
+    from .._support.uncompiled import call
     from ._euler_numba import from_euler_rows
 
-    from_euler_rows(rows, np.array(order_axes, dtype=np.int64), np.array(order_cols, dtype=np.int64), out)
+    args = (rows, np.array(order_axes, dtype=np.int64), np.array(order_cols, dtype=np.int64), out)
+    call(from_euler_rows, *args, python_seconds=_UNCOMPILED_S_PER_ROW * rows.shape[0])
     return out.reshape((*shape, 4))
 
 
@@ -181,11 +184,13 @@ def as_euler(
     shape = q.shape[:-1]
     rows = np.ascontiguousarray(q.reshape(-1, 4))
     out = np.empty((rows.shape[0], 3), dtype=q.dtype)
+    from .._support.uncompiled import call
     from ._euler_numba import as_euler_rows
 
     full, half = float(out.dtype.type(full)), float(out.dtype.type(half))  # 2π and π as the output holds them
     # the kernel also folds -180° (from the rounding to degrees or float32) to +180°, in the output's type
-    as_euler_rows(rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, half, full, out)
+    args = (rows, i, j, k, proper, sign, intrinsic, scale, q.dtype == np.float32, half, full, out)
+    call(as_euler_rows, *args, python_seconds=_UNCOMPILED_S_PER_ROW * rows.shape[0])
     if yaw_range == "positive":
         angle = out[:, 0 if intrinsic else 2]
         angle[angle < 0] += full

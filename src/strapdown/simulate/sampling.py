@@ -229,7 +229,9 @@ def sample(
         raise ValueError(f"gyro must be one of {', '.join(map(repr, _KIND))}; got {gyro!r}")
     imu = ImuModel.ideal() if imu is None else imu
     field_ned = (magnetic_field or MagneticField()).ned()
-    span = trajectory.duration if duration is None else min(_positive(duration, "duration"), trajectory.duration)
+    span = trajectory.duration if duration is None else _positive(duration, "duration")
+    if span > trajectory.duration * (1 + 1e-12):
+        raise ValueError(f"duration={span:g} s is longer than the trajectory ({trajectory.duration:g} s)")
     if span * rate_hz > MAX_SAMPLES:
         raise ValueError(
             f"rate_hz={rate_hz:g} over {span:g} s makes {span * rate_hz:.3g} samples, more than {MAX_SAMPLES:,} "

@@ -91,9 +91,8 @@ def simulate_file(
     if imu not in _IMUS:
         raise ValueError(f"imu must be one of {', '.join(_IMUS)}, got {imu!r}")
     model = {"ideal": ImuModel.ideal, "consumer": ImuModel.consumer_mems, "tactical": ImuModel.tactical}[imu]()
-    data = sample(
-        make(scenario), rate, gyro=gyro, imu=model, seed=seed, reference=reference, body=body, duration=duration
-    )
+    trajectory = make(scenario, duration)
+    data = sample(trajectory, rate, gyro=gyro, imu=model, seed=seed, reference=reference, body=body, duration=duration)
     n = data.gyro.shape[0]
     acc = data.acc
     if gyro in ("increment", "rotvec"):

@@ -44,6 +44,21 @@ except ImportError:
     compiled = None
 """
 
+# the end of every child: the count, then (where the first calls ran kernels uncompiled) the wait for the
+# background worker that compiles them, so that the next process finds them in the cache
+END = r"""
+if compiled is not None:
+    out["kernels compiled"] = len(compiled)
+try:
+    from strapdown._support.uncompiled import wait_for_background
+    t0 = time.perf_counter()
+    wait_for_background()
+    out["then waited for the background compile"] = time.perf_counter() - t0
+except ImportError:
+    pass
+print(json.dumps(out))
+"""
+
 CALLS = (
     COUNT
     + r"""
@@ -72,17 +87,8 @@ for name, call in (
     t0 = time.perf_counter()
     call()
     out[name + ", second call"] = time.perf_counter() - t0
-if compiled is not None:
-    out["kernels compiled"] = len(compiled)
-try:  # the kernels a first call ran uncompiled are compiled by a background worker: the next process needs them
-    from strapdown._support.uncompiled import wait_for_background
-    t0 = time.perf_counter()
-    wait_for_background()
-    out["then waited for the background compile"] = time.perf_counter() - t0
-except ImportError:
-    pass
-print(json.dumps(out))
 """
+    + END
 )
 
 ESTIMATE = (
@@ -97,17 +103,8 @@ except SystemExit as exc:
     if exc.code:
         raise
 out = {"strapdown estimate, 3 min at 200 Hz (in process)": time.perf_counter() - t0}
-if compiled is not None:
-    out["kernels compiled"] = len(compiled)
-try:  # the kernels a first call ran uncompiled are compiled by a background worker: the next process needs them
-    from strapdown._support.uncompiled import wait_for_background
-    t0 = time.perf_counter()
-    wait_for_background()
-    out["then waited for the background compile"] = time.perf_counter() - t0
-except ImportError:
-    pass
-print(json.dumps(out))
 """
+    + END
 )
 
 

@@ -189,3 +189,9 @@ def test_a_first_update_on_an_empty_cache_compiles_nothing_and_the_worker_fills_
     second = _child(tmp_path, cache, tmp_path / "second.npy", STRAPDOWN_UNCOMPILED="never")
     assert second["compiled"] == []
     np.testing.assert_allclose(np.load(tmp_path / "second.npy"), compiled, rtol=0, atol=1e-13)
+
+
+def test_a_mistyped_mode_is_named(monkeypatch):
+    monkeypatch.setenv("STRAPDOWN_UNCOMPILED", "off")
+    with pytest.raises(ValueError, match=r"STRAPDOWN_UNCOMPILED must be one of auto, never, always; .* 'off'"):
+        uncompiled.call(_double, np.zeros(1), np.zeros(1), python_seconds=0.0)

@@ -45,6 +45,7 @@ __all__ = ["BUDGET_S", "call", "fallbacks", "twin", "wait_for_background"]
 
 #: The longest uncompiled run :func:`call` chooses over compiling (seconds, from the caller's estimate).
 BUDGET_S = 2.0
+_MODES = ("auto", "never", "always")
 _STALE_LOCK_S = 600.0  # a background compile that has not finished in 10 minutes has died
 
 _twins: dict[int, types.FunctionType] = {}
@@ -144,6 +145,8 @@ def call(kernel, *args, python_seconds: float):
         What the kernel returns.  Array arguments are written as the compiled kernel writes them.
     """
     mode = os.environ.get("STRAPDOWN_UNCOMPILED", "auto")
+    if mode not in _MODES:
+        raise ValueError(f"STRAPDOWN_UNCOMPILED must be one of {', '.join(_MODES)}; the environment says {mode!r}")
     if mode == "never":
         return kernel(*args)
     if mode != "always":
@@ -170,6 +173,8 @@ def call(kernel, *args, python_seconds: float):
 _WORKER = """
 import base64, importlib, os, pickle, sys, time
 from pathlib import Path
+if hasattr(os, "nice"):
+    os.nice(10)  # it yields the cores to the work at hand
 where = Path(sys.argv[1])
 lock = where / "worker.lock"
 while True:
@@ -220,7 +225,6 @@ def _compile_in_background(kernel, sig) -> None:
     env = dict(os.environ)
     package_parent = str(Path(kernel_cache.PACKAGE).parent)  # the worker imports this very strapdown
     env["PYTHONPATH"] = os.pathsep.join([package_parent, *filter(None, [env.get("PYTHONPATH")])])
-    posix = os.name == "posix"
     try:
         subprocess.Popen(
             [sys.executable, "-c", _WORKER, str(where)],
@@ -228,8 +232,7 @@ def _compile_in_background(kernel, sig) -> None:
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
-            start_new_session=posix,  # it outlives a command that has finished before it
-            preexec_fn=(lambda: os.nice(10)) if posix else None,  # it yields the cores to the work at hand
+            start_new_session=os.name == "posix",  # it outlives a command that has finished before it
         )
     except OSError:
         lock.unlink(missing_ok=True)

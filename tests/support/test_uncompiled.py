@@ -195,3 +195,17 @@ def test_a_mistyped_mode_is_named(monkeypatch):
     monkeypatch.setenv("STRAPDOWN_UNCOMPILED", "off")
     with pytest.raises(ValueError, match=r"STRAPDOWN_UNCOMPILED must be one of auto, never, always; .* 'off'"):
         uncompiled.call(_double, np.zeros(1), np.zeros(1), python_seconds=0.0)
+
+
+def test_the_scan_build_a_call_did_not_run_is_compiled_for_the_next_process(tmp_path):
+    # the thread policy picks the serial or the parallel scan by the load of the moment: a second process at
+    # another load compiled the other build (5 kernels, 6 s) before the worker was given it too
+    code = (
+        "import json, numpy as np, strapdown\nfrom strapdown._support import kernel_cache, uncompiled\n"
+        "strapdown.integrate(np.zeros((40000, 3)), 0.01, threads=1)\nuncompiled.wait_for_background(300.0)\n"
+        "print(json.dumps([kernel_cache.cached('propagate/_integrate_numba.py', k) for k in ('scan_serial', 'scan')]))"
+    )
+    env = {**os.environ, "STRAPDOWN_CACHE_DIR": str(tmp_path), "STRAPDOWN_BACKGROUND_COMPILE": "1"}
+    env.pop("NUMBA_CACHE_DIR", None)
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == [True, True]

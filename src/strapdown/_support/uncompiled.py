@@ -41,7 +41,7 @@ import numpy as np
 
 from . import kernel_cache
 
-__all__ = ["BUDGET_S", "call", "fallbacks", "twin", "wait_for_background"]
+__all__ = ["BUDGET_S", "call", "compile_later", "fallbacks", "twin", "wait_for_background"]
 
 #: The longest uncompiled run :func:`call` chooses over compiling (seconds, from the caller's estimate).
 BUDGET_S = 2.0
@@ -166,6 +166,20 @@ def call(kernel, *args, python_seconds: float):
         for a, before in saved:
             a[...] = before
         return kernel(*args)
+
+
+def compile_later(kernel, *args) -> None:
+    """Queue ``kernel`` for these arguments' types for the background worker, unless it is compiled or cached.
+
+    For a kernel that this call did not need but the next may: the serial and parallel builds of a scan, of
+    which the thread policy picks one by the load of the moment, so that a second process that picks the other
+    does not compile it (benchmarks/bench_coldstart.py counts a second process's compilations).
+    """
+    if kernel.overloads or os.environ.get("STRAPDOWN_BACKGROUND_COMPILE", "1") == "0":
+        return
+    sig = _signature(kernel, args)
+    if not _compiled(kernel, sig):
+        _compile_in_background(kernel, sig)
 
 
 # The background worker: compiles the queued kernels one after another (``*.job`` files, oldest first), then

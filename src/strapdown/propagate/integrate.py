@@ -478,6 +478,10 @@ class AttitudeIntegrator:
                     k.scan_serial(*args)
 
             _threads.run(n, self.threads, part)
+            # the build this call did not run, for the next process whose load picks it (_support/uncompiled)
+            args = (g[0], h, hstep, self.scale, kind, unit and norm != k.NORM_NONE, st.q[0].copy(), out[0])
+            uncompiled.compile_later(k.scan, *args, 2)
+            uncompiled.compile_later(k.scan_serial, *args)
             st.q[0] = q
             st.counter = 0
         else:

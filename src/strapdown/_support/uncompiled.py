@@ -188,7 +188,7 @@ _WORKER = """
 import base64, importlib, os, pickle, sys, time
 from pathlib import Path
 if hasattr(os, "nice"):
-    os.nice(10)  # it yields the cores to the work at hand
+    os.nice(19)  # the lowest priority: it yields the cores to the work at hand
 where = Path(sys.argv[1])
 lock = where / "worker.lock"
 while True:

@@ -12,7 +12,7 @@ import pytest
 
 import strapdown
 from strapdown._support import uncompiled
-from strapdown.fusion import AttitudeEstimator, TiltEstimator
+from strapdown.fusion import AttitudeEstimator, Complementary, Madgwick, Mahony, TiltEstimator
 from strapdown.io.tables import OutputSpec, attitude_columns
 from strapdown.simulate import ImuModel, MagneticDisturbance, RandomMotion, sample
 
@@ -58,6 +58,9 @@ CASES = {
     ),
     "6D clipped gyro": lambda d: AttitudeEstimator({"gyro_range": 0.5}).update(_clipped(d.gyro, 0.5), d.acc, t=d.t[1:]),
     "tilt": lambda d: TiltEstimator().update(d.gyro, d.acc, t=d.t[1:]),
+    "mahony 9D": lambda d: Mahony().update(d.gyro, d.acc, d.mag, t=d.t[1:]),
+    "madgwick 9D": lambda d: Madgwick().update(d.gyro, d.acc, d.mag, t=d.t[1:]),
+    "complementary 9D": lambda d: Complementary().update(d.gyro, d.acc, d.mag, t=d.t[1:]),
 }
 
 

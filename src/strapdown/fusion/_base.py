@@ -30,6 +30,9 @@ __all__ = ["Estimator"]
 
 
 GRAVITY = 9.80665
+#: The small filters' kernels run uncompiled (Mahony, Madgwick, complementary; measured 15-40 µs, 9D the
+#: most): seconds a sample, for a first call's choice (_support/uncompiled.py).
+UNCOMPILED_S_PER_SAMPLE = 4e-5
 
 
 # Accepted input range (docs/guide/reliability.md): beyond these the kernels' squares and products overflow into

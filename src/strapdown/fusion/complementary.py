@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._base import GRAVITY, Estimator, batch_function, nonnegative
+from ._base import GRAVITY, UNCOMPILED_S_PER_SAMPLE, Estimator, batch_function, nonnegative
 from .estimate import Estimate
 
 __all__ = ["Complementary", "ComplementaryParams", "complementary"]
@@ -66,6 +66,7 @@ class Complementary(Estimator):
     reports_flags = True
 
     def _run(self, gyro, acc, mag, dts, extra_in):
+        from .._support.uncompiled import call
         from ._complementary_numba import run
 
         n = gyro.shape[0]
@@ -73,7 +74,9 @@ class Complementary(Estimator):
         flags = np.empty(n, dtype=np.uint8)
         m = mag if mag is not None else np.zeros((1, 3))
         p = self.params
-        run(gyro, acc, m, mag is not None, dts, p.tau_acc, p.tau_mag, GRAVITY, p.acc_gate, self._state["q"], out, flags)
+        q = self._state["q"]
+        args = (gyro, acc, m, mag is not None, dts, p.tau_acc, p.tau_mag, GRAVITY, p.acc_gate, q, out, flags)
+        call(run, *args, python_seconds=UNCOMPILED_S_PER_SAMPLE * n)
         return Estimate(q=out, frame=self.natural_frame, flags=flags)
 
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._base import Estimator, batch_function, nonnegative
+from ._base import UNCOMPILED_S_PER_SAMPLE, Estimator, batch_function, nonnegative
 from .estimate import Estimate
 
 __all__ = ["Madgwick", "MadgwickParams", "madgwick"]
@@ -67,13 +67,15 @@ class Madgwick(Estimator):
     params_class = MadgwickParams
 
     def _run(self, gyro, acc, mag, dts, extra_in):
+        from .._support.uncompiled import call
         from ._madgwick_numba import run
 
         n = gyro.shape[0]
         out = np.empty((n, 4))
         m = mag if mag is not None else np.zeros((1, 3))
         p = self.params
-        run(gyro, acc, m, mag is not None, dts, p.beta, p.variant == "reference", self._state["q"], out)
+        args = (gyro, acc, m, mag is not None, dts, p.beta, p.variant == "reference", self._state["q"], out)
+        call(run, *args, python_seconds=UNCOMPILED_S_PER_SAMPLE * n)
         return Estimate(q=out, frame=self.natural_frame)
 
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._base import Estimator, batch_function, nonnegative
+from ._base import UNCOMPILED_S_PER_SAMPLE, Estimator, batch_function, nonnegative
 from .estimate import Estimate
 
 __all__ = ["Mahony", "MahonyParams", "mahony"]
@@ -69,6 +69,7 @@ class Mahony(Estimator):
         return {"q": q.copy(), "bias": np.array(self.params.bias0, dtype=float)}
 
     def _run(self, gyro, acc, mag, dts, extra_in):
+        from .._support.uncompiled import call
         from ._mahony_numba import run
 
         n = gyro.shape[0]
@@ -76,7 +77,8 @@ class Mahony(Estimator):
         bias = np.empty((n, 3))
         m = mag if mag is not None else np.zeros((1, 3))
         p = self.params
-        run(gyro, acc, m, mag is not None, dts, p.kp, p.ki, self._state["q"], self._state["bias"], out, bias)
+        args = (gyro, acc, m, mag is not None, dts, p.kp, p.ki, self._state["q"], self._state["bias"], out, bias)
+        call(run, *args, python_seconds=UNCOMPILED_S_PER_SAMPLE * n)
         return Estimate(q=out, frame=self.natural_frame, bias=bias)
 
 

@@ -20,7 +20,7 @@ from strapdown.fusion import (
     saturated,
     tilt,
 )
-from strapdown.fusion.saturation import restarts
+from strapdown.fusion.saturation import GYRO_FLOOR, clipped_components, pinned, restarts
 from strapdown.io.tables import flag_bits
 from strapdown.simulate import ClockModel, Handheld, ImuModel, MagneticField, sample
 
@@ -53,6 +53,45 @@ def test_saturated_finds_runs_at_the_extreme_and_the_given_range():
     assert not saturated(small).any()
     with pytest.raises(ValueError, match="limit"):
         saturated(w, limit=-1.0)
+
+
+def test_only_runs_at_the_final_extreme_count():
+    # the detector keeps the longest run at each extreme as it goes (one pass): a run at a value a later reading
+    # exceeds is no longer at the extreme, and runs that occur often enough but are not consecutive are no run
+    w = np.zeros((40, 3))
+    w[5:10, 0] = 4.0  # pinned-looking, but 5.0 comes later: not the extreme
+    w[20, 0] = 5.0
+    w[[2, 12, 22, 32], 1] = -3.0  # the extreme four times, never twice in a row
+    w[30:33, 2] = 3.0  # the extreme, a run of exactly min_run
+    w[35, 2] = np.nan  # NaN is never an extreme nor a part of a run
+    expect = np.zeros((40, 3), dtype=bool)
+    expect[30:33, 2] = True
+    assert (pinned(w) == expect).all()
+    assert clipped_components(w[:, [0, 1, 1]].copy(), 0.0, GYRO_FLOOR) is None  # nothing: no mask at all
+    assert (pinned(w, min_run=4) == 0).all()
+    # the same answers as the definition, written as whole-array numpy, on quantised, clipped, gappy readings
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        v = np.clip(np.round(rng.normal(0.0, 3.0, (int(rng.integers(1, 50)), 3)), 1), -4.0, 4.0)
+        v[rng.random(len(v)) < 0.1] = np.nan
+        assert (pinned(v) == _pinned_by_definition(v)).all()
+
+
+def _pinned_by_definition(v, floor=GYRO_FLOOR, min_run=3):
+    out = np.zeros(v.shape, dtype=bool)
+    for axis in range(3):
+        col = v[:, axis]
+        if np.isnan(col).all():
+            continue
+        for extreme in (np.nanmax(col), np.nanmin(col)):
+            if abs(extreme) < floor:
+                continue
+            at = np.r_[False, col == extreme, False]
+            edges = np.flatnonzero(np.diff(at.astype(int)))
+            for b, e in zip(edges[::2], edges[1::2], strict=True):
+                if e - b >= min_run:
+                    out[b:e, axis] = True
+    return out
 
 
 def test_flag_column():

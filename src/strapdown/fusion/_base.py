@@ -199,6 +199,9 @@ class Estimator:
     # True: the kernels take a constant interval as two entries, the first sample's and the rest's (sample k's
     # interval is dts[min(k, len(dts) - 1)]), instead of a per-sample array written and read only to repeat it
     compact_intervals = False
+    # True: an update replaces the state's arrays and never writes into them, so what a failed chunk puts back
+    # is the old dict's entries, not copies of them
+    _replaces_state = False
 
     def __init__(self, params=None, *, q0=None, frame: str = "ENU"):
         self.params = self.params_class() if params is None else params
@@ -311,7 +314,9 @@ class Estimator:
         )
         # what a diverging chunk puts back (the kernels update the state arrays in place)
         kept = None
-        if self._state is not None:
+        if self._state is not None and self._replaces_state:
+            kept = dict(self._state)
+        elif self._state is not None:
             kept = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self._state.items()}
         saved = (kept, self._t_last, self._use_mag)
         if self._use_mag is not None and m is not None and not self._use_mag:

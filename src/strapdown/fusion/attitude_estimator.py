@@ -104,6 +104,7 @@ range (``benchmarks/bench_attitude.py`` prints the RMSE surface over ``tau_acc``
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from functools import cache
 from itertools import pairwise
 from numbers import Real
 
@@ -113,7 +114,7 @@ from .._support import validate as _v
 from .._support.renamed import renamed
 from ..rotations.quaternion import rotate
 from ._base import Estimator, params_of
-from .estimate import FLAG_SATURATED, Estimate, PiecewiseEstimate
+from .estimate import FLAG_SATURATED, Estimate, PiecewiseEstimate, joined
 from .saturation import ACC_FLOOR, GYRO_FLOOR, bridged, clipped_components, restarts
 
 __all__ = ["AttitudeEstimator", "AttitudeParams", "attitude"]
@@ -388,6 +389,7 @@ class AttitudeEstimator(Estimator):
     _unit_keys = ("q", "q_gyro", "q_correction")
     # new in this version: a state taken before starts them at 0
     _optional_keys = ("gyro_steps_unnormalised", "saturated")
+    _replaces_state = True
 
     def __init__(self, params: AttitudeParams | None = None, *, q0=None, frame: str = "ENU"):
         super().__init__(params_of(AttitudeParams, params, "attitude"), q0=q0, frame=frame)
@@ -490,7 +492,7 @@ class AttitudeEstimator(Estimator):
                 part, sq = self._run_piece(gyro, acc, mag, dts, int(b), int(e))
                 squares += sq
                 parts.append(part)
-            est = _joined(parts, self.natural_frame)
+            est = joined(parts, self.natural_frame)
         for mask in (pin, acc_pin):
             if mask is not None:
                 est.flags[mask.any(axis=-1)] |= np.uint8(FLAG_SATURATED)
@@ -518,9 +520,8 @@ class AttitudeEstimator(Estimator):
             mag = None if mag is None else mag[b:e]
         n = gyro.shape[0]
         st = self._state
-        s = np.empty(k.SIZE)
-        for name, off, size in _LAYOUT:
-            s[getattr(k, off) : getattr(k, off) + size] = st.get(name, 0.0)  # 0: an optional entry missing
+        # the entries in the order of their offsets, which tile the vector: one concatenation packs them
+        s = np.concatenate([st[name] if name in st else np.zeros(b - a) for name, a, b in _slices(k)])  # 0: missing
         P = np.ascontiguousarray(st["covariance"], dtype=np.float64).copy()
         out = np.empty((n, 4))
         flags = np.empty(n, dtype=np.uint8)
@@ -538,8 +539,9 @@ class AttitudeEstimator(Estimator):
         squares = np.zeros(3)
         args = (gyro, acc, m, mag is not None, dts, p, s, P, out, seg_end, seg_val, flags, squares)
         n_seg = uncompiled.call(k.run, *args, python_seconds=n * _UNCOMPILED_S_PER_SAMPLE)
-        for name, off, size in _LAYOUT:
-            st[name] = s[getattr(k, off) : getattr(k, off) + size].copy()
+        # views of s, made afresh for each piece: nothing writes to a state's arrays in place (_replaces_state)
+        for name, a, b in _slices(k):
+            st[name] = s[a:b]
         st["covariance"] = P
         if n:
             st["q"] = out[-1].copy()
@@ -550,16 +552,15 @@ class AttitudeEstimator(Estimator):
         return PiecewiseEstimate(q=out, frame=self.natural_frame, flags=flags, segments=segments), squares
 
 
-def _joined(parts: list, frame: str) -> PiecewiseEstimate:
-    """One PiecewiseEstimate of consecutive pieces' (their segments' ends shifted to the whole chunk's samples)."""
-    offsets = np.cumsum([0] + [len(x) for x in parts[:-1]])
-    segs = [x._segments for x in parts]
-    ends = np.concatenate([seg[0] + o for seg, o in zip(segs, offsets, strict=True)])
-    bias = np.concatenate([seg[1] for seg in segs])
-    sigma = np.concatenate([seg[2]["bias_sigma"] for seg in segs])
-    q = np.concatenate([x.q for x in parts])
-    flags = np.concatenate([x.flags for x in parts])
-    return PiecewiseEstimate(q=q, frame=frame, flags=flags, segments=(ends, bias, {"bias_sigma": sigma}))
+@cache
+def _slices(k) -> tuple:
+    """(name, start, end) of the state's entries in the kernel module k's vector, in order; they must tile it."""
+    sl = tuple(
+        sorted(((name, getattr(k, off), getattr(k, off) + size) for name, off, size in _LAYOUT), key=lambda e: e[1])
+    )
+    if [e[1] for e in sl] != [0, *(e[2] for e in sl[:-1])] or sl[-1][2] != k.SIZE:
+        raise AssertionError("the state layout does not tile the kernel's vector")  # edited on one side only
+    return sl
 
 
 @renamed(gyr="gyro")

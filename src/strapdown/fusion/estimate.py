@@ -151,3 +151,15 @@ class PiecewiseEstimate(Estimate):
     @extra.setter
     def extra(self, value) -> None:
         self._extra = value
+
+
+def joined(parts: list, frame: str) -> PiecewiseEstimate:
+    """One PiecewiseEstimate of consecutive pieces' (their segments' ends shifted to the whole chunk's samples)."""
+    offsets = np.cumsum([0] + [len(x) for x in parts[:-1]])
+    segs = [x._segments for x in parts]
+    ends = np.concatenate([seg[0] + o for seg, o in zip(segs, offsets, strict=True)])
+    bias = np.concatenate([seg[1] for seg in segs])
+    sigma = np.concatenate([seg[2]["bias_sigma"] for seg in segs])
+    q = np.concatenate([x.q for x in parts])
+    flags = np.concatenate([x.flags for x in parts])
+    return PiecewiseEstimate(q=q, frame=frame, flags=flags, segments=(ends, bias, {"bias_sigma": sigma}))

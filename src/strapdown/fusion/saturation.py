@@ -84,20 +84,23 @@ def clipped_components(v: np.ndarray, limit: float, floor: float, min_run: int =
     if not limit >= 0:
         raise ValueError(f"limit must be a range >= 0 (0: found from the readings, inf: never), got {limit!r}")
     n = v.shape[0]
-    if n == 0 or limit == np.inf:
-        return None
-    if limit > 0:
-        with np.errstate(invalid="ignore"):
-            out = np.abs(v) >= limit * (1.0 - 1e-3)
-        return out if out.any() else None
-    if n < min_run:
+    if n == 0 or limit == np.inf or (limit == 0 and n < min_run):
         return None
     from .._support.uncompiled import call
     from ._saturation_numba import pinned_at_extremes
 
+    v = np.ascontiguousarray(v)
+    args = (v, float(limit), float(floor), int(min_run))
+    # a pass that only answers whether anything is pinned: no mask unless something is (nearly never)
+    seconds = 3e-6 * n  # uncompiled, a first call's (_support/uncompiled.py)
+    if not call(pinned_at_extremes, *args, _NO_MASK, python_seconds=seconds):
+        return None
     out = np.zeros((n, 3), dtype=bool)
-    args = (np.ascontiguousarray(v), float(floor), int(min_run), out)
-    return out if call(pinned_at_extremes, *args, python_seconds=3e-6 * n) else None  # 3 µs a row uncompiled
+    call(pinned_at_extremes, *args, out, python_seconds=seconds)
+    return out
+
+
+_NO_MASK = np.zeros((0, 3), dtype=bool)
 
 
 def bridged(values, clipped: np.ndarray) -> np.ndarray:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._support.deps import need
+from ._gps import first_fix
 from ._spool import Spool, SpooledSource
 from .base import Format
 
@@ -273,22 +274,22 @@ def read_position(path) -> dict | None:
     with _reader(path) as reader:
         connections = list(reader.connections)
         for topic in sorted({c.topic for c in connections if c.msgtype == FIX_TYPE}):
-            for msg, received in _messages(reader, connections, topic, FIX_TYPE, path):
-                lat, lon = float(msg.latitude), float(msg.longitude)
-                if msg.status.status < 0 or not (abs(lat) <= 90 and abs(lon) <= 180) or (lat, lon) == (0.0, 0.0):
-                    continue
-                ns = _stamp(msg, received)
-                if ns < 631_152_000 * 10**9:  # before 1990: simulated time, no date
-                    return None
-                when = datetime.datetime.fromtimestamp(ns / 1e9, datetime.UTC)
-                return {
-                    "latitude_deg": lat,
-                    "longitude_deg": lon,
-                    "altitude_m": float(msg.altitude),
-                    "date": when.date(),
-                    "source": f"{topic} (first fix, {when.isoformat(timespec='seconds')})",
-                }
+            fixes = [
+                (msg.latitude, msg.longitude, msg.altitude, msg.status.status >= 0, _stamp(msg, received))
+                for msg, received in _messages(reader, connections, topic, FIX_TYPE, path)
+            ]
+            if not fixes:
+                continue
+            lat, lon, alt, good, ns = (np.array(c) for c in zip(*fixes, strict=True))
+            fix = first_fix(lat, lon, alt, good, lambda i, ns=ns: _utc(int(ns[i])), topic, "first fix")
+            if fix is not None:
+                return fix
     return None
+
+
+def _utc(ns: int):
+    """The UTC time of a stamp, None before 1990 (simulated time: no date)."""
+    return None if ns < 631_152_000 * 10**9 else datetime.datetime.fromtimestamp(ns / 1e9, datetime.UTC)
 
 
 def _is_bag(path: Path) -> bool:

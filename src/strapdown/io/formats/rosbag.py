@@ -23,6 +23,7 @@ import numpy as np
 
 from ..._support.deps import need
 from ._gps import first_fix
+from ._mcap import mcap_break
 from ._spool import Spool, SpooledSource
 from .base import Format
 
@@ -72,10 +73,32 @@ def _reader(path: Path):
         raise FileNotFoundError(f"no such bag: {path}")
     highlevel = need("rosbags.highlevel", "reading ROS bags")
     typesys = need("rosbags.typesys", "reading ROS bags")
-    with highlevel.AnyReader(
-        [_bag_path(path)], default_typestore=typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
-    ) as r:
-        yield r
+    reader = highlevel.AnyReader([_bag_path(path)], default_typestore=typesys.get_typestore(typesys.Stores.ROS2_HUMBLE))
+    try:
+        reader.open()
+    except Exception:
+        broken = _mcap_breaks(path, chunks=False)
+        if broken:  # rosbags says "File end magic is invalid": where the file breaks is ours to find
+            raise ValueError(f"{path}: {broken}") from None
+        raise
+    try:
+        yield reader
+    finally:
+        reader.close()
+
+
+def _mcap_breaks(path: Path, chunks: bool) -> str:
+    """Where the MCAP files of a bag break (:func:`._mcap.mcap_break`), each named when a folder has several."""
+    found = [(m, what) for m in _mcap_files(path) if (what := mcap_break(m, chunks=chunks))]
+    return "; ".join(what if m == path else f"{m.name}: {what}" for m, what in found)
+
+
+def _mcap_files(path: Path) -> list[Path]:
+    """The MCAP storage files of a bag: the file itself, or those of a ROS 2 bag's folder."""
+    folder = _bag_path(path)
+    if folder.is_dir():
+        return sorted(folder.glob("*.mcap"))
+    return [path] if path.suffix.lower() == ".mcap" else []
 
 
 def _messages(reader, connections, topic: str, msgtype: str, path: Path, short: list | None = None):
@@ -183,9 +206,11 @@ def open_bag(path, topic: str | None = None, mag_topic: str | None = None):
             raise
     src.frame, src.body = "ENU", "FLU"
     src.topic = imu_topic
+    where = _mcap_breaks(path, chunks=True) if short else ""
     src.warnings = [
         f"{path}: {topic}: {got} of the {counted} messages its index counts could be read, {counted - got} lost "
         f"after {span:.6g} s of the topic (receive time): the bag is damaged or cut there"
+        + (f"; {where}" if where else "")
         for topic, got, counted, span in short
     ]
     return src

@@ -101,19 +101,21 @@ def ulog_position(path) -> LogPosition | None:
     return None if found is None else LogPosition(**found)
 
 
-def export_position(path) -> LogPosition | None:
+def export_position(path, start_epoch: float | None = None) -> LogPosition | None:
     r"""A phone export's place and date from its ``Location.csv``: Sensor Logger's or phyphox's.
 
     Sensor Logger writes epoch nanoseconds in ``time`` beside ``latitude``, ``longitude`` and ``altitude``;
     phyphox (its "Location (GPS)" sensor) ``"Time (s)"`` from the experiment's start beside ``"Latitude (°)"``,
-    ``"Longitude (°)"`` and ``"Height (m)"``, so its date comes from the system time of the START event in
-    ``meta/time.csv`` (none without it: no date is made up).  phyphox's "semicolon, decimal comma" layout is read
-    too.
+    ``"Longitude (°)"`` and ``"Height (m)"``, so its date comes from ``start_epoch``, which the phyphox reader takes
+    from the START event's system time in ``meta/time.csv`` (none without it: no date is made up).  phyphox's
+    "semicolon, decimal comma" layout is read too.
 
     Parameters
     ----------
     path : path-like
         The export folder, or a zip of it.
+    start_epoch : float, optional
+        The epoch seconds of the export's time 0 (phyphox's ``"Time (s)"``).
 
     Returns
     -------
@@ -134,15 +136,13 @@ def export_position(path) -> LogPosition | None:
     import io
 
     from .formats.multi import Export
-    from .formats.phyphox import start_epoch
 
     path = Path(path)
-    with Export(path, ("Location.csv", "time.csv")) as export:
-        location, times = export.get("Location.csv"), export.get("time.csv")
+    with Export(path, ("Location.csv",)) as export:
+        location = export.get("Location.csv")
         if location is None or location.stat().st_size > 64 << 20:  # a few rows a second: 64 MiB is hours of it
             return None
         text = location.read_text(encoding="utf-8-sig")
-        start = start_epoch(times.read_text(encoding="utf-8-sig")[: 1 << 20]) if times is not None else None
     head = text.split("\n", 1)[0]
     semicolon = head.count(";") > head.count(",")  # the header's: decimal commas outnumber the ; of the rows
     rows = list(csv.reader(io.StringIO(text), delimiter=";" if semicolon else ","))
@@ -160,9 +160,9 @@ def export_position(path) -> LogPosition | None:
         height = column("altitude") if "altitude" in header else None
         return _fixes(column("latitude"), column("longitude"), height, utc, "Location.csv", path)
     if {"Time (s)", "Latitude (°)", "Longitude (°)"} <= set(header):  # phyphox
-        if start is None:
+        if start_epoch is None:
             return None
-        utc = (start + column("Time (s)")) * 1e6
+        utc = (start_epoch + column("Time (s)")) * 1e6
         height = column("Height (m)") if "Height (m)" in header else None
         source = "Location.csv, date from meta/time.csv"
         return _fixes(column("Latitude (°)"), column("Longitude (°)"), height, utc, source, path)

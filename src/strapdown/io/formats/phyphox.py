@@ -85,7 +85,9 @@ def _position(path):
     """The ``position`` hook: the export's ``Location.csv`` dated by ``meta/time.csv``."""
     from ..position import export_position
 
-    return export_position(path)
+    with Export(Path(path), ("time.csv",)) as export:
+        start = _start_epoch(export.get("time.csv"))
+    return export_position(path, start_epoch=start)
 
 
 def open_phyphox(path, time_unit: str | None = None):

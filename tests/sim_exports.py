@@ -63,11 +63,26 @@ def sensor_logger(
     return folder
 
 
-def phyphox(folder: Path, data, *, linear_only=False, semicolon=False, start_epoch=None):
+def phyphox(folder: Path, data, *, linear_only=False, semicolon=False, start_epoch=None, location=None):
     """A phyphox multi-sensor export: "Time (s)" from the start and the sensor's columns, quoted headers.
 
-    ``start_epoch`` also writes ``meta/time.csv`` with the START event's system time (epoch s).
+    ``start_epoch`` also writes ``meta/time.csv`` with the START event's system time (epoch s); ``location``
+    (latitude, longitude in degrees, height in m) a ``Location.csv`` at 1 Hz in the layout of phyphox's "Location
+    (GPS)" sensor, its first fix 1.5 s after the start (a receiver takes a moment) and a few metres of noise.
     """
+    sep = ";" if semicolon else ","
+    if location is not None:
+        names = ("Time (s)", "Latitude (°)", "Longitude (°)", "Height (m)", "Velocity (m/s)", "Direction (°)",
+                 "Horizontal Accuracy (m)", "Vertical Accuracy (m)")  # fmt: skip
+        rng = np.random.default_rng(5)
+        lines = [sep.join(f'"{n}"' for n in names)]
+        for ti in np.arange(1.5, data.t[-1], 1.0):
+            lat, lon = location[0] + 2e-5 * rng.standard_normal(), location[1] + 2e-5 * rng.standard_normal()
+            cells = [f"{ti:.9E}", f"{lat:.9E}", f"{lon:.9E}", f"{location[2] + rng.normal():.9E}", "0.0E0", "0.0E0"]
+            cells = [c.replace(".", ",") if semicolon else c for c in [*cells, "4.0E0", "6.0E0"]]
+            lines.append(sep.join(cells))
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "Location.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
     if start_epoch is not None:
         meta = folder / "meta"
         meta.mkdir(parents=True, exist_ok=True)
@@ -89,7 +104,6 @@ def phyphox(folder: Path, data, *, linear_only=False, semicolon=False, start_epo
     }
     if not linear_only:
         specs["Accelerometer.csv"] = ("Acceleration {} (m/s^2)", "Absolute acceleration (m/s^2)", data.acc, 0.0017)
-    sep = ";" if semicolon else ","
     for name, (pattern, absolute, values, offset) in specs.items():
         header = sep.join(f'"{h}"' for h in ["Time (s)", *(pattern.format(c) for c in "xyz"), absolute])
         path = folder / name

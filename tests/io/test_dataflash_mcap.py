@@ -1,7 +1,7 @@
 """ArduPilot DataFlash logs (binary ``.bin`` and text ``.log``) and standalone MCAP files (issue 28, part B).
 
-No public ArduPilot log small enough to keep could be obtained here, so every log below is SIMULATED motion
-written by tests/sim_exports.py in the exact DataFlash layout (ArduPilot's LogStructure.h: FMT messages, then
+Every log below is SIMULATED motion (a real log, of ArduCopter 3.3, is tests/io/test_dataflash_real.py's), written
+by tests/sim_exports.py in the exact DataFlash layout (ArduPilot's LogStructure.h: FMT messages, then
 ``0xA3 0x95 type`` and the packed payload; the text layout as Mission Planner exports it).  pymavlink's DFReader,
 ArduPilot's own Python reader, reads the same bytes as the independent oracle.  The MCAP files are written by
 rosbags' ROS 2 writer with MCAP storage; the ``.mcap`` file alone is what Foxglove and ``ros2 bag record`` leave.
@@ -157,7 +157,10 @@ def test_estimate_a_dataflash_log_with_no_options_agrees_with_its_att(tmp_path, 
 def test_dataflash_without_imu_messages_says_what_it_has(tmp_path, data):
     msgs = [m for m in sim.dataflash_messages(data) if m[0] != "IMU"]
     path = sim.dataflash(tmp_path / "noimu.bin", msgs)
-    with pytest.raises(ValueError, match=r"noimu\.bin: no IMU messages in this DataFlash log; it has: .*ATT"):
+    with pytest.raises(
+        ValueError,
+        match=r"noimu\.bin: no IMU messages in this DataFlash log \(its \d+ bytes\); its FMTs declare: .*ATT",
+    ):
         ImuFile(path)
 
 

@@ -364,25 +364,56 @@ def test_a_dataflash_log_cut_or_overwritten_warns_with_the_samples_lost_and_when
             assert len(data.t) - 1 - _rows(tmp_path / "garbled.csv") == int(found.group(1))
 
 
-def test_a_cut_mcap_is_refused_by_name_and_a_damaged_one_warns_with_what_it_lost(tmp_path):
+def _mcap_records(data: bytes):
+    """(offset, opcode, length) of an MCAP file's records: magic, then uint8 opcode, uint64 length (mcap.dev/spec)."""
+    pos, found = 8, []
+    while pos + 9 <= len(data):
+        op, length = struct.unpack_from("<BQ", data, pos)
+        found.append((pos, op, length))
+        if op == 2:  # the Footer
+            break
+        pos += 9 + length
+    return found
+
+
+@pytest.mark.parametrize("fraction", [0.1, 0.5, 0.99])
+def test_a_cut_mcap_is_refused_by_name_and_the_byte_it_breaks_at(tmp_path, fraction):
+    import sim_exports as sim
+
+    data = sim.phone_at_rest(body="FLU", duration=5.0)  # rosbags' own MCAP writer: the real layout
+    mcap = next(sim.rosbag(tmp_path / "bag", data, storage="mcap").glob("*.mcap")).read_bytes()
+    cut = mcap[: int(len(mcap) * fraction)]
+    at = max(p for p, _, _ in _mcap_records(mcap) if p < len(cut))  # the record the cut falls in
+    log = tmp_path / "cut.mcap"
+    log.write_bytes(cut)
+    code, text = _estimate(log, tmp_path / "cut.csv")
+    assert code == 1 and not (tmp_path / "cut.csv").exists(), text
+    assert re.search(
+        rf"{re.escape(str(log))}: the file is cut inside a \w[\w ]* record that starts at byte {at} \(it declares "
+        rf"\d+ bytes; the file ends at byte {len(cut)}\)",
+        text,
+    ), text
+
+
+def test_a_damaged_mcap_chunk_is_warned_with_what_it_lost_and_where(tmp_path):
     import sim_exports as sim
 
     data = sim.phone_at_rest(body="FLU", duration=5.0)
     mcap = next(sim.rosbag(tmp_path / "bag", data, storage="mcap").glob("*.mcap")).read_bytes()
-    (tmp_path / "cut.mcap").write_bytes(mcap[: len(mcap) // 2])
-    code, text = _estimate(tmp_path / "cut.mcap", tmp_path / "cut.csv")
-    assert code == 1 and str(tmp_path / "cut.mcap") in text and not (tmp_path / "cut.csv").exists(), text
     zeroed = bytearray(mcap)
     zeroed[len(mcap) // 2 : len(mcap) // 2 + 64] = bytes(64)
     (tmp_path / "zeroed.mcap").write_bytes(zeroed)
     code, text = _estimate(tmp_path / "zeroed.mcap", tmp_path / "zeroed.csv")
+    assert code == 0, text
     found = re.search(r"/imu/data: (\d+) of the (\d+) messages its index counts could be read, (\d+) lost after", text)
-    if code == 1:  # a reader that refuses the damaged chunk is as good, as long as it names the file
-        assert str(tmp_path / "zeroed.mcap") in text and not (tmp_path / "zeroed.csv").exists(), text
-    else:
-        assert found, text
-        got, counted, lost = map(int, found.groups())
-        assert counted == len(data.t) - 1 and lost == counted - got == counted - _rows(tmp_path / "zeroed.csv")
+    assert found, text
+    got, counted, lost = map(int, found.groups())
+    assert counted == len(data.t) - 1 and lost == counted - got == counted - _rows(tmp_path / "zeroed.csv")
+    chunk = next((p, 9 + n) for p, op, n in _mcap_records(mcap) if op == 6 and p < len(mcap) // 2 < p + 9 + n)
+    where = re.search(rf"the Chunk at bytes {chunk[0]} to {sum(chunk)}, messages of [\d.]+ s to [\d.]+ s, is damaged: "
+                      r"no record can start at byte \d+ of its records, byte (\d+) of the file", text)  # fmt: skip
+    assert where, text
+    assert len(mcap) // 2 <= int(where.group(1)) < len(mcap) // 2 + 64  # the first record header in the zeros
 
 
 def test_a_zip_bomb_is_refused_before_it_is_unpacked_in_bounded_memory(tmp_path):

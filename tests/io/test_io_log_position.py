@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime as dt
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -85,3 +86,36 @@ def test_a_phone_exports_location_file_gives_its_place_and_date(tmp_path):
     assert place.date == dt.date(2024, 3, 1) and abs(place.latitude_deg - 52.50002) < 1e-9 and place.altitude_m == 35
     (tmp_path / "Location.csv").write_text("time,seconds_elapsed,latitude,longitude,altitude\n0,0,0,0,0\n")
     assert export_position(tmp_path) is None  # no fix: zeros and no UTC time
+
+
+@pytest.mark.parametrize("semicolon", [False, True])
+def test_a_phyphox_exports_location_file_gives_the_place_and_meta_time_the_date(tmp_path, semicolon):
+    # SIMULATED: a phone at rest written in phyphox's own layout by tests/sim_exports.py (Location.csv as the app's
+    # "Location (GPS)" sensor exports it, seconds from the start; meta/time.csv's START event in epoch seconds)
+    from pygeomag import GeoMag
+
+    import sim_exports as sim
+
+    aachen = (50.77640, 6.08342, 173.0)
+    start = dt.datetime(2024, 6, 10, 14, 45, 36, 500_000, tzinfo=dt.UTC)
+    data = sim.phone_at_rest(duration=20.0)
+    folder = sim.phyphox(tmp_path / "p", data, semicolon=semicolon, start_epoch=start.timestamp(), location=aachen)
+    place = log_position(folder)
+    # the median of 19 fixes with 2e-5 deg (2 m) of noise each
+    assert abs(place.latitude_deg - aachen[0]) < 2e-5 and abs(place.longitude_deg - aachen[1]) < 2e-5
+    assert abs(place.altitude_m - aachen[2]) < 1.0 and place.date == start.date()
+    assert "Location.csv" in place.source and "meta/time.csv" in place.source
+    year = 2024 + (start - dt.datetime(2024, 1, 1, tzinfo=dt.UTC)).total_seconds() / (366 * 86400)
+    expected = GeoMag(base_year=2020).calculate(glat=aachen[0], glon=aachen[1], alt=0, time=year).d  # WMM2020
+    out = tmp_path / "out.csv"
+    cli = [sys.executable, "-m", "strapdown.cli", "estimate", str(folder), "-o", str(out), "--declination", "auto"]
+    res = subprocess.run(cli, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    assert abs(float(res.stderr.split("declination ")[1].split("°")[0]) - expected) < 0.01
+    said = re.search(r"World Magnetic Model at ([\d.]+) N, ([\d.]+) E on 2024-06-10 \(Location\.csv", res.stderr)
+    assert said, res.stderr  # the place and date it used, said
+    assert abs(float(said.group(1)) - aachen[0]) < 2e-5 and abs(float(said.group(2)) - aachen[1]) < 2e-5
+    (folder / "meta" / "time.csv").unlink()  # no start time: no date, none made up
+    assert log_position(folder) is None
+    res = subprocess.run(cli, capture_output=True, text=True)
+    assert res.returncode == 1 and "--lat, --lon and --date" in res.stderr

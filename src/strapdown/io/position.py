@@ -7,7 +7,8 @@ GPS, a ROS ``NavSatFix``) is read the same way.  The readers here:
 * PX4 ULog: ``vehicle_gps_position`` or ``sensor_gps`` (``lat``/``lon`` in 1e-7 degrees and ``alt`` in mm, or
   the newer ``latitude_deg``/``longitude_deg``/``altitude_msl_m``), the date from ``time_utc_usec``;
 * a phone export's ``Location.csv`` (Sensor Logger: ``latitude``, ``longitude``, ``altitude`` and epoch
-  nanoseconds in ``time``).
+  nanoseconds in ``time``; phyphox: ``"Latitude (°)"``, ``"Longitude (°)"``, ``"Height (m)"`` and seconds from the
+  start in ``"Time (s)"``, the start's system time in ``meta/time.csv``).
 
 The place is the median of the fixes (a few metres of GPS noise move the declination by nothing), the date that
 of the first fix with a UTC time.
@@ -100,21 +101,26 @@ def ulog_position(path) -> LogPosition | None:
     return None if found is None else LogPosition(**found)
 
 
-_LOCATION_NAMES = ("location.csv",)
+def export_position(path, start_epoch: float | None = None) -> LogPosition | None:
+    r"""A phone export's place and date from its ``Location.csv``: Sensor Logger's or phyphox's.
 
-
-def export_position(path) -> LogPosition | None:
-    r"""A phone export's place and date from its ``Location.csv`` (epoch-nanosecond ``time``, ``latitude``, ...).
+    Sensor Logger writes epoch nanoseconds in ``time`` beside ``latitude``, ``longitude`` and ``altitude``;
+    phyphox (its "Location (GPS)" sensor) ``"Time (s)"`` from the experiment's start beside ``"Latitude (°)"``,
+    ``"Longitude (°)"`` and ``"Height (m)"``, so its date comes from ``start_epoch``, which the phyphox reader takes
+    from the START event's system time in ``meta/time.csv`` (none without it: no date is made up).  phyphox's
+    "semicolon, decimal comma" layout is read too.
 
     Parameters
     ----------
     path : path-like
-        The export folder, or a zip of it (Sensor Logger).
+        The export folder, or a zip of it.
+    start_epoch : float, optional
+        The epoch seconds of the export's time 0 (phyphox's ``"Time (s)"``).
 
     Returns
     -------
     LogPosition or None
-        None when it has no location file, or no fix.
+        None when it has no location file, or no fix (or, phyphox, no start time).
 
     Examples
     --------
@@ -128,27 +134,36 @@ def export_position(path) -> LogPosition | None:
     """
     import csv
     import io
-    import zipfile
+
+    from .formats.multi import Export
 
     path = Path(path)
-    text = None
-    if path.is_dir():
-        found = [p for p in path.iterdir() if p.name.lower() in _LOCATION_NAMES]
-        text = found[0].read_text(encoding="utf-8-sig") if found else None
-    elif zipfile.is_zipfile(path):
-        with zipfile.ZipFile(path) as z:
-            names = [n for n in z.namelist() if Path(n).name.lower() in _LOCATION_NAMES]
-            # a location file is a few rows a second: 64 MiB is hours of it, and no more is unpacked
-            if names and z.getinfo(names[0]).file_size < 64 << 20:
-                text = z.read(names[0]).decode("utf-8-sig")
-    if not text:
+    with Export(path, ("Location.csv",)) as export:
+        location = export.get("Location.csv")
+        if location is None or location.stat().st_size > 64 << 20:  # a few rows a second: 64 MiB is hours of it
+            return None
+        text = location.read_text(encoding="utf-8-sig")
+    head = text.split("\n", 1)[0]
+    semicolon = head.count(";") > head.count(",")  # the header's: decimal commas outnumber the ; of the rows
+    rows = list(csv.reader(io.StringIO(text), delimiter=";" if semicolon else ","))
+    if len(rows) < 2:
         return None
-    rows = list(csv.DictReader(io.StringIO(text)))
-    if not rows or not {"time", "latitude", "longitude"} <= set(rows[0]):
-        return None
+    header = [h.strip() for h in rows[0]]
 
     def column(name):
-        return np.array([float(r.get(name) or "nan") for r in rows])
+        i = header.index(name)
+        cells = [(r[i] if i < len(r) else "").strip() for r in rows[1:]]
+        return np.array([float((c.replace(",", ".") if semicolon else c) or "nan") for c in cells])
 
-    utc = column("time") / 1e3  # ns -> µs
-    return _fixes(column("latitude"), column("longitude"), column("altitude"), utc, "Location.csv", path)
+    if {"time", "latitude", "longitude"} <= set(header):  # Sensor Logger
+        utc = column("time") / 1e3  # ns -> µs
+        height = column("altitude") if "altitude" in header else None
+        return _fixes(column("latitude"), column("longitude"), height, utc, "Location.csv", path)
+    if {"Time (s)", "Latitude (°)", "Longitude (°)"} <= set(header):  # phyphox
+        if start_epoch is None:
+            return None
+        utc = (start_epoch + column("Time (s)")) * 1e6
+        height = column("Height (m)") if "Height (m)" in header else None
+        source = "Location.csv, date from meta/time.csv"
+        return _fixes(column("Latitude (°)"), column("Longitude (°)"), height, utc, source, path)
+    return None

@@ -85,13 +85,26 @@ def _text(raw) -> str:
 
 
 def numeric(records, divisors) -> dict:
-    """The numeric columns of decoded records as float64, scaled to their units."""
+    """The columns of decoded records: numbers as float64 scaled to their units, names (``n``, ``N``, ``Z``) as str."""
     out = {}
     for col in records.dtype.names:
-        if records.dtype[col].kind in "iuf" and not records.dtype[col].shape:
+        kind = records.dtype[col].kind
+        if kind in "iuf" and not records.dtype[col].shape:
             v = records[col].astype(np.float64) if col != "TimeUS" else records[col].astype(np.int64)
             out[col] = v / divisors[col] if col in divisors else v
+        elif kind == "S":  # a parameter's name, a text message: NUL-padded ASCII
+            out[col] = np.char.strip(np.char.decode(records[col], "ascii", errors="replace"))
     return out
+
+
+def boot_time(name: str, cols: dict) -> dict:
+    """``cols`` with ``TimeUS`` (µs since boot): logs before ArduPilot 3.3 stamp their messages ``TimeMS`` instead.
+
+    Not for ``GPS``, whose ``TimeMS`` in those logs is the GPS time of week (its boot time is ``T``).
+    """
+    if "TimeUS" not in cols and "TimeMS" in cols and not name.startswith("GPS"):
+        cols["TimeUS"] = np.round(cols["TimeMS"] * 1000.0).astype(np.int64)
+    return cols
 
 
 def scan_binary(path: Path, wanted, sink) -> tuple[list, list]:
@@ -119,14 +132,14 @@ def scan_binary(path: Path, wanted, sink) -> tuple[list, list]:
                 if o.size:
                     rows = blocks.buf[o[:, None] + np.arange(dtype.itemsize)]
                     counts[name] = counts.get(name, 0) + o.size
-                    sink(name, numeric(rows.view(dtype).ravel(), divisors))
+                    sink(name, boot_time(name, numeric(rows.view(dtype).ravel(), divisors)))
             if status == k.FULL:
                 continue
             if status == k.STOP:
                 body = blocks.buf[pos + 3 : pos + FMT_LENGTH].tobytes()
                 typ, size, name, fmt, cols = struct.unpack("<BB4s16s64s", body)
                 name, fmt, cols = _text(name), _text(fmt), _text(cols)
-                if size <= 3 or (typ == FMT_TYPE and size != FMT_LENGTH):
+                if size < 3 or (typ == FMT_TYPE and size != FMT_LENGTH):
                     raise ValueError(f"{path}: the FMT at byte {blocks.base + pos} gives {name} a length of {size}")
                 length[typ] = size
                 names.append(name)
@@ -194,12 +207,12 @@ def scan_text(path: Path, wanted, sink) -> tuple[list, list]:
             return
         out = {}
         for i, col in enumerate(cols):
+            values = [r[i] for r in table]
             try:
-                values = [r[i] for r in table]
                 out[col] = np.array(values, dtype=np.int64 if col == "TimeUS" else np.float64)
             except ValueError:
-                continue  # a text column (a name, a message)
-        sink(name, out)
+                out[col] = np.array(values, dtype=str)  # a text column (a parameter's name, a message)
+        sink(name, boot_time(name, out))
 
     breaks = []
     with open(path, "rb") as f:

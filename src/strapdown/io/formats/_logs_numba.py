@@ -106,7 +106,8 @@ def ulog_resync(buf, pos, end, at_eof, item, top):
 def dataflash_walk(buf, pos, end, length, want, offs, ids, head1, head2):
     """Walk DataFlash messages from ``pos``; record the offset and kind of every wanted one.
 
-    ``length[type]``: the message length its FMT declared (header included; 0: no FMT yet); ``want[type]``: the
+    ``length[type]``: the message length its FMT declared (header included, so 3 for a message without payload;
+    0: no FMT yet); ``want[type]``: the
     index to record, or -1; the FMT type (0x80) always stops for Python.  Returns ``(pos, n, status)`` as
     :func:`ulog_walk`.
     """
@@ -119,7 +120,7 @@ def dataflash_walk(buf, pos, end, length, want, offs, ids, head1, head2):
             return pos, n, CORRUPT
         typ = buf[pos + 2]
         size = length[typ]
-        if size <= 3:
+        if size < 3:  # no FMT has declared the type (a message of only its header, 3 bytes, is legitimate)
             return pos, n, CORRUPT
         if pos + size > end:
             return pos, n, NEED
@@ -142,7 +143,7 @@ def dataflash_resync(buf, pos, end, at_eof, length, head1, head2):
         q = p
         good = 0
         while good < _CHAIN and q + 3 <= end:
-            if buf[q] != head1 or buf[q + 1] != head2 or length[buf[q + 2]] <= 3:
+            if buf[q] != head1 or buf[q + 1] != head2 or length[buf[q + 2]] < 3:
                 break
             q += length[buf[q + 2]]
             good += 1

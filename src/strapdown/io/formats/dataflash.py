@@ -9,9 +9,13 @@ What ArduPilot writes (``libraries/AP_Logger/LogStructure.h`` and the log messag
 * ``MAG``: ``TimeUS``, ``I``, ``MagX..MagZ`` in milligauss, read as µT (1 mG = 0.1 µT), on the gyro's nearest
   rows; ``mag_topic=`` chooses (``"MAG:1"``, ``"none"``).
 * ``ATT``: ``Roll``, ``Pitch`` and ``Yaw`` in degrees (stored × 100): the autopilot's own estimate, the
-  ``reference`` hook (:func:`read_attitude`), as the quaternion of the ZYX (yaw, pitch, roll) Euler angles.
-* ``GPS``: ``Status`` (3: a 3D fix), ``GMS``/``GWk`` (GPS time of week, ms, and week), ``Lat``/``Lng`` (degrees,
-  stored × 1e7) and ``Alt`` (m above mean sea level, stored × 100): the ``position`` hook (:func:`read_position`).
+  ``reference`` hook (:func:`read_attitude`), as the quaternion of the ZYX (yaw, pitch, roll) Euler angles, turned
+  from the vehicle's axes to the IMU's by the log's ``AHRS_TRIM_X/Y`` parameters (``PARM``).
+* ``GPS``: ``Status`` (3: a 3D fix), ``GMS``/``GWk`` (GPS time of week, ms, and week; ``TimeMS``/``Week`` in logs
+  before ArduPilot 3.3), ``Lat``/``Lng`` (degrees, stored × 1e7) and ``Alt`` (m above mean sea level, stored × 100):
+  the ``position`` hook (:func:`read_position`).
+* Time: ``TimeUS``, µs since boot; logs before ArduPilot 3.3 have ``TimeMS``, ms since boot (read as µs × 1000).
+* Messages of no payload (an ``FMT`` of length 3, the header alone: ``STRT``, events) are walked over.
 * Frames: ArduPilot's body axes are FRD and its earth frame NED; a vehicle starts upright.
 
 The binary file is never read whole: a compiled walk over the message headers finds the wanted messages a block at
@@ -24,13 +28,13 @@ valid messages and reported with the samples lost and when; a log cut inside a m
 
 from __future__ import annotations
 
-import datetime
 import re
 from pathlib import Path
 
 import numpy as np
 
 from ._dataflash_scan import HEAD, is_text_log, scan_binary, scan_text
+from ._gps import first_fix, gps_time
 from ._spool import Spool, SpooledSource
 from ._walk import Break, describe_breaks
 from .base import Format
@@ -40,8 +44,6 @@ __all__ = ["open_dataflash", "read_attitude", "read_position", "scan"]
 _PER_S = 1_000_000
 _UNITS = {"gyro": "rad/s", "acc": "m/s2", "mag": "uT"}
 _MG_TO_UT = 0.1
-_GPS_EPOCH = datetime.datetime(1980, 1, 6, tzinfo=datetime.UTC)
-_LEAP_SECONDS = 18  # GPS time runs ahead of UTC by 18 s since 2017-01-01 (IERS Bulletin C)
 
 
 def scan(path, wanted, sink) -> tuple[list, list]:
@@ -98,6 +100,7 @@ class _Spools:
         need = ("GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ") if base == "IMU" else ("MagX", "MagY", "MagZ")
         missing = [c for c in ("TimeUS", *need) if c not in cols]
         if missing:
+            missing = ["TimeUS (or TimeMS)" if c == "TimeUS" else c for c in missing]
             raise ValueError(f"{name} messages without {', '.join(missing)}: not ArduPilot's {base} layout")
         values = np.column_stack([cols[c] for c in need]) * (1.0 if base == "IMU" else _MG_TO_UT)
         instance = _instance(name, cols, base)
@@ -165,7 +168,10 @@ def open_dataflash(path, topic: str | None = None, mag_topic: str | None = None)
         wanted = re.compile(r"IMU\d?" + ("" if mag_topic == "none" else r"|MAG\d?")).fullmatch
         names, breaks = scan(path, wanted, sink)
         if not any(b == "IMU" for b, _ in sink.spools):
-            raise ValueError(f"{path}: no IMU messages in this DataFlash log; it has: {', '.join(sorted(set(names)))}")
+            size = path.stat().st_size
+            where = f" before {breaks[0].what} at byte {breaks[0].start}" if breaks else f" (its {size} bytes)"
+            declared = ", ".join(sorted(set(names)))
+            raise ValueError(f"{path}: no IMU messages in this DataFlash log{where}; its FMTs declare: {declared}")
         key = _which(topic, "IMU", path, sink.spools)
         gyro = sink.take(key)
         label = _label(key)
@@ -213,8 +219,13 @@ class _Collect:
         return {c: np.concatenate([p[c] for p in parts]) for c in (parts[0] if parts else ())}
 
 
-def read_attitude(path, topic: str | None = None):
+def read_attitude(path, topic: str | None = None, *, trim: bool = True):
     """The autopilot's own attitude (``ATT``: roll, pitch, yaw) as times and quaternions, FRD body to NED.
+
+    ArduPilot reports the attitude of the vehicle, which is the board's (the IMU's axes) turned by the parameters
+    ``AHRS_TRIM_X`` and ``AHRS_TRIM_Y`` (roll and pitch, radians: the board mounted out of level).  The IMU's
+    readings are in the board's axes, so by default the trim is undone here, and ATT becomes the attitude of the
+    axes an estimate from those readings has.
 
     Parameters
     ----------
@@ -222,13 +233,15 @@ def read_attitude(path, topic: str | None = None):
         The log.
     topic : str, optional
         The IMU instance whose first sample is t = 0 (as :func:`open_dataflash` reads it).
+    trim : bool, optional
+        Undo the log's ``AHRS_TRIM_X/Y`` (default); False: the vehicle's attitude as ATT has it.
 
     Returns
     -------
     t : numpy.ndarray, shape (n,)
         Seconds from that IMU's first sample.
     q : numpy.ndarray, shape (n, 4)
-        [w, x, y, z] of the ZYX Euler angles (yaw, pitch, roll).
+        [w, x, y, z] of the ZYX Euler angles (yaw, pitch, roll), composed with the trim.
     origin : TimeOrigin
         The IMU's first sample, µs since boot.
 
@@ -239,24 +252,50 @@ def read_attitude(path, topic: str | None = None):
     Traceback (most recent call last):
     FileNotFoundError: no such file: no/such.bin
     """
+    t, q, origin, _ = _attitude(path, topic, trim)
+    return t, q, origin
+
+
+def _attitude(path, topic, trim: bool):
+    """:func:`read_attitude`, and the trim it undid (radians, or None)."""
     from ...rotations.euler import from_euler
+    from ...rotations.quaternion import multiply
     from ..source import TimeOrigin
 
-    sink = _Collect(("ATT",))
-    scan(path, re.compile(r"IMU\d?|ATT").fullmatch, sink)
+    sink = _Collect(("ATT", "PARM"))
+    scan(path, re.compile(r"IMU\d?|ATT|PARM").fullmatch, sink)
     key = _which(topic, "IMU", Path(path), sink.first)
     att = sink.table("ATT")
     if not att or not all(c in att for c in ("TimeUS", "Roll", "Pitch", "Yaw")):
         raise ValueError(f"{path}: no ATT messages with Roll, Pitch and Yaw (the autopilot's estimate)")
     t0 = sink.first[key]
     q = from_euler(np.column_stack([att["Yaw"], att["Pitch"], att["Roll"]]), "ZYX", degrees=True)
-    return (att["TimeUS"] - t0) / _PER_S, q, TimeOrigin(t0, "us", "boot")
+    trim = _trim(sink.table("PARM")) if trim else None
+    if trim is not None:
+        # AP_AHRS: the vehicle's body (what ATT gives) is the board's (the IMU's axes) turned by the trim's roll and
+        # pitch, dcm_vehicle = dcm_board R(trim)^T, so the IMU axes' attitude is ATT composed with the trim
+        q = multiply(q, from_euler(np.array([0.0, trim[1], trim[0]]), "ZYX"))
+    return (att["TimeUS"] - t0) / _PER_S, q, TimeOrigin(t0, "us", "boot"), trim
+
+
+def _trim(parm: dict) -> tuple | None:
+    """``(AHRS_TRIM_X, AHRS_TRIM_Y)`` in radians as the log's parameters first give them; None when absent or 0."""
+    if not parm or "Name" not in parm or "Value" not in parm:
+        return None
+    found = []
+    for name in ("AHRS_TRIM_X", "AHRS_TRIM_Y"):
+        rows = np.flatnonzero(parm["Name"] == name)
+        found.append(float(parm["Value"][rows[0]]) if rows.size else 0.0)
+    return tuple(found) if any(found) else None
 
 
 def reference(path, topic: str | None = None) -> dict:
-    """The :class:`~strapdown.io.formats.base.Format` ``reference`` hook: ``ATT`` (NED, FRD)."""
-    t, q, origin = read_attitude(path, topic)
-    return {"t": t, "q": q, "frame": "NED", "body": "FRD", "time_origin": origin, "source": "ATT"}
+    """The :class:`~strapdown.io.formats.base.Format` ``reference`` hook: ``ATT`` (NED, FRD), the trim undone."""
+    t, q, origin, trim = _attitude(path, topic, True)
+    source = "ATT"
+    if trim is not None:
+        source += f" (AHRS_TRIM_X {np.degrees(trim[0]):.3f} deg, AHRS_TRIM_Y {np.degrees(trim[1]):.3f} deg undone)"
+    return {"t": t, "q": q, "frame": "NED", "body": "FRD", "time_origin": origin, "source": source}
 
 
 def read_position(path) -> dict | None:
@@ -271,7 +310,7 @@ def read_position(path) -> dict | None:
     -------
     dict or None
         ``latitude_deg``, ``longitude_deg``, ``altitude_m``, ``date`` (UTC: GPS week and time of week less the
-        18 leap seconds) and ``source``; None when no GPS message has a 3D fix and a week.
+        leap seconds of that date, 18 since 2017) and ``source``; None when no GPS message has a 3D fix and a week.
 
     Examples
     --------
@@ -283,24 +322,17 @@ def read_position(path) -> dict | None:
     sink = _Collect(("GPS",))
     scan(path, "GPS".__eq__, sink)
     gps = sink.table("GPS")
-    if not gps or not all(c in gps for c in ("Status", "GWk", "GMS", "Lat", "Lng")):
+    # ArduPilot 3.3 on: GWk and GMS; before: Week and TimeMS (the GPS time of week, the boot time being T)
+    week, ms = ("GWk", "GMS") if "GWk" in gps else ("Week", "TimeMS")
+    if not all(c in gps for c in ("Status", week, ms, "Lat", "Lng")):
         return None
-    good = (gps["Status"] >= 3) & (gps["GWk"] > 0) & ((gps["Lat"] != 0) | (gps["Lng"] != 0))
-    good &= (np.abs(gps["Lat"]) <= 90) & (np.abs(gps["Lng"]) <= 180)
+    lat, lon = gps["Lat"], gps["Lng"]
+    if np.abs(lat).max() > 90 or np.abs(lon).max() > 180:  # stored as integers without the L format's scale
+        lat, lon = lat / 1e7, lon / 1e7
+    good = (gps["Status"] >= 3) & (gps[week] > 0)
     if "I" in gps:
         good &= gps["I"] == 0
-    if not good.any():
-        return None
-    i = int(np.argmax(good))
-    when = _GPS_EPOCH + datetime.timedelta(weeks=int(gps["GWk"][i]), milliseconds=int(gps["GMS"][i]))
-    when -= datetime.timedelta(seconds=_LEAP_SECONDS)
-    return {
-        "latitude_deg": float(gps["Lat"][i]),
-        "longitude_deg": float(gps["Lng"][i]),
-        "altitude_m": float(gps["Alt"][i]) if "Alt" in gps else float("nan"),
-        "date": when.date(),
-        "source": f"GPS (first 3D fix, {when.isoformat(timespec='seconds')})",
-    }
+    return first_fix(lat, lon, gps.get("Alt"), good, lambda i: gps_time(gps[week][i], gps[ms][i]), "GPS")
 
 
 def _is_dataflash(path: Path) -> bool:

@@ -5,8 +5,9 @@ Layout of a multi-sensor experiment's "CSV" export: ``Gyroscope.csv`` (``"Time (
 gravity), ``Linear Accelerometer.csv`` (``"Linear Acceleration x (m/s^2)"``, ... gravity removed),
 ``Magnetometer.csv`` (``"Magnetic field x (µT)"``, ...), each with an ``Absolute ...`` column; a single-sensor
 experiment writes ``Raw Data.csv``.  Times are seconds from the experiment's start; ``meta/time.csv`` gives the
-start's system time (epoch seconds), which becomes the origin when present.  The export may use ``;`` and
-decimal commas (the "semicolon, decimal comma" option), which the CSV reader takes.
+start's system time (epoch seconds), which becomes the origin when present, and dates ``Location.csv``
+(``"Latitude (°)"``, ``"Longitude (°)"``, ``"Height (m)"``: the ``position`` hook, for ``--declination auto``).
+The export may use ``;`` and decimal commas (the "semicolon, decimal comma" option), which the CSV reader takes.
 
 The accelerometer is ``Accelerometer.csv``; ``Linear Accelerometer.csv`` is used only when it is the only one,
 and then refused by the accelerometer check as gravity-free (it gave roll -97° at exit code 0 before, issue 12).
@@ -50,7 +51,18 @@ def _start_epoch(time_csv: Path | None) -> float | None:
     if time_csv is None:
         return None
     with open(time_csv, newline="", encoding="utf-8-sig") as f:
-        text = f.read(1 << 20)  # a few lines of events; a larger file is no phyphox time.csv
+        return start_epoch(f.read(1 << 20))  # a few lines of events; a larger file is no phyphox time.csv
+
+
+def start_epoch(text: str) -> float | None:
+    r"""The system time (epoch s) at the START event of the text of a ``meta/time.csv``, or None.
+
+    Examples
+    --------
+    >>> from strapdown.io.formats.phyphox import start_epoch
+    >>> start_epoch('"event","experiment time","system time"\n"START",2.5,1718030736.5\n')
+    1718030734.0
+    """
     delimiter = ";" if text.count(";") > text.count(",") else ","
     rows = list(csv.reader(text.splitlines(), delimiter=delimiter))
     if not rows:
@@ -67,6 +79,15 @@ def _start_epoch(time_csv: Path | None) -> float | None:
                 return None
             return system - experiment
     return None
+
+
+def _position(path):
+    """The ``position`` hook: the export's ``Location.csv`` dated by ``meta/time.csv``."""
+    from ..position import export_position
+
+    with Export(Path(path), ("time.csv",)) as export:
+        start = _start_epoch(export.get("time.csv"))
+    return export_position(path, start_epoch=start)
 
 
 def open_phyphox(path, time_unit: str | None = None):
@@ -116,4 +137,5 @@ FORMAT = Format(
     detect=_is_export,
     options=("time_unit",),
     description="phyphox export (folder or zip)",
+    position=_position,
 )

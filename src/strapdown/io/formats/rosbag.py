@@ -22,6 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from ..._support.deps import need
+from ._gps import first_fix
+from ._mcap import mcap_break
 from ._spool import Spool, SpooledSource
 from .base import Format
 
@@ -71,10 +73,32 @@ def _reader(path: Path):
         raise FileNotFoundError(f"no such bag: {path}")
     highlevel = need("rosbags.highlevel", "reading ROS bags")
     typesys = need("rosbags.typesys", "reading ROS bags")
-    with highlevel.AnyReader(
-        [_bag_path(path)], default_typestore=typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
-    ) as r:
-        yield r
+    reader = highlevel.AnyReader([_bag_path(path)], default_typestore=typesys.get_typestore(typesys.Stores.ROS2_HUMBLE))
+    try:
+        reader.open()
+    except Exception:
+        broken = _mcap_breaks(path, chunks=False)
+        if broken:  # rosbags says "File end magic is invalid": where the file breaks is ours to find
+            raise ValueError(f"{path}: {broken}") from None
+        raise
+    try:
+        yield reader
+    finally:
+        reader.close()
+
+
+def _mcap_breaks(path: Path, chunks: bool) -> str:
+    """Where the MCAP files of a bag break (:func:`._mcap.mcap_break`), each named when a folder has several."""
+    found = [(m, what) for m in _mcap_files(path) if (what := mcap_break(m, chunks=chunks))]
+    return "; ".join(what if m == path else f"{m.name}: {what}" for m, what in found)
+
+
+def _mcap_files(path: Path) -> list[Path]:
+    """The MCAP storage files of a bag: the file itself, or those of a ROS 2 bag's folder."""
+    folder = _bag_path(path)
+    if folder.is_dir():
+        return sorted(folder.glob("*.mcap"))
+    return [path] if path.suffix.lower() == ".mcap" else []
 
 
 def _messages(reader, connections, topic: str, msgtype: str, path: Path, short: list | None = None):
@@ -182,9 +206,11 @@ def open_bag(path, topic: str | None = None, mag_topic: str | None = None):
             raise
     src.frame, src.body = "ENU", "FLU"
     src.topic = imu_topic
+    where = _mcap_breaks(path, chunks=True) if short else ""
     src.warnings = [
         f"{path}: {topic}: {got} of the {counted} messages its index counts could be read, {counted - got} lost "
         f"after {span:.6g} s of the topic (receive time): the bag is damaged or cut there"
+        + (f"; {where}" if where else "")
         for topic, got, counted, span in short
     ]
     return src
@@ -273,22 +299,22 @@ def read_position(path) -> dict | None:
     with _reader(path) as reader:
         connections = list(reader.connections)
         for topic in sorted({c.topic for c in connections if c.msgtype == FIX_TYPE}):
-            for msg, received in _messages(reader, connections, topic, FIX_TYPE, path):
-                lat, lon = float(msg.latitude), float(msg.longitude)
-                if msg.status.status < 0 or not (abs(lat) <= 90 and abs(lon) <= 180) or (lat, lon) == (0.0, 0.0):
-                    continue
-                ns = _stamp(msg, received)
-                if ns < 631_152_000 * 10**9:  # before 1990: simulated time, no date
-                    return None
-                when = datetime.datetime.fromtimestamp(ns / 1e9, datetime.UTC)
-                return {
-                    "latitude_deg": lat,
-                    "longitude_deg": lon,
-                    "altitude_m": float(msg.altitude),
-                    "date": when.date(),
-                    "source": f"{topic} (first fix, {when.isoformat(timespec='seconds')})",
-                }
+            fixes = [
+                (msg.latitude, msg.longitude, msg.altitude, msg.status.status >= 0, _stamp(msg, received))
+                for msg, received in _messages(reader, connections, topic, FIX_TYPE, path)
+            ]
+            if not fixes:
+                continue
+            lat, lon, alt, good, ns = (np.array(c) for c in zip(*fixes, strict=True))
+            fix = first_fix(lat, lon, alt, good, lambda i, ns=ns: _utc(int(ns[i])), topic, "first fix")
+            if fix is not None:
+                return fix
     return None
+
+
+def _utc(ns: int):
+    """The UTC time of a stamp, None before 1990 (simulated time: no date)."""
+    return None if ns < 631_152_000 * 10**9 else datetime.datetime.fromtimestamp(ns / 1e9, datetime.UTC)
 
 
 def _is_bag(path: Path) -> bool:

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._support.deps import need
+from ._gps import first_fix
 from ._spool import Spool, SpooledSource
 from ._walk import BATCH, Blocks, Break, describe_breaks
 from .base import Format
@@ -458,18 +459,16 @@ def read_position(path) -> dict | None:
             lon = rec["lon"] * 1e-7 if "lon" in fields else rec["longitude_deg"].astype(np.float64)
             alt = rec["alt"] * 1e-3 if "alt" in fields else rec["altitude_msl_m"].astype(np.float64)
             utc = rec["time_utc_usec"].astype(np.int64)
-            good = (rec["fix_type"] >= 3) & (utc > 0) & ((lat != 0) | (lon != 0))
-            good &= (np.abs(lat) <= 90) & (np.abs(lon) <= 180)
-            if good.any():
-                i = int(np.argmax(good))
-                when = datetime.datetime.fromtimestamp(utc[i] / 1e6, datetime.UTC)
-                return {
-                    "latitude_deg": float(lat[i]),
-                    "longitude_deg": float(lon[i]),
-                    "altitude_m": float(alt[i]),
-                    "date": when.date(),
-                    "source": f"{name} (first 3D fix, {when.isoformat(timespec='seconds')})",
-                }
+            fix = first_fix(
+                lat,
+                lon,
+                alt,
+                (rec["fix_type"] >= 3) & (utc > 0),
+                lambda i, utc=utc: datetime.datetime.fromtimestamp(utc[i] / 1e6, datetime.UTC),
+                name,
+            )
+            if fix is not None:
+                return fix
     return None
 
 

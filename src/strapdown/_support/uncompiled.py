@@ -1,10 +1,10 @@
 """A kernel run as plain Python while numba has not compiled it yet, and compiled meanwhile in the background (private).
 
 numba compiles a kernel at its first call, for that call's argument types: the attitude estimator's takes about
-12 s (docs/guide/performance.md), which a first ``update`` on a thousand samples would spend before it computes for
-half a second.  A numba kernel is a Python function (``dispatcher.py_func``) that numba translates; run as
-written, with every kernel it calls run as written too, it computes the same numbers, only slower (about
-0.5 ms a sample for the estimator, against the 0.03 µs of the compiled code).  So :func:`call`, for a call whose
+12 s (docs/guide/performance.md), which a first ``update`` on a thousand samples would spend before computing for
+a millisecond.  A numba kernel is a Python function (``dispatcher.py_func``) that numba translates; run as
+written, with every kernel it calls run as written too, it computes the same numbers, only slower (23-40 µs a
+sample for the estimator, against a few tens of nanoseconds compiled).  So :func:`call`, for a call whose
 kernel is compiled neither in this process nor in the kernel cache (:mod:`.kernel_cache`), and whose uncompiled
 run is short (under :data:`BUDGET_S`, from the caller's estimate), runs the Python *twin* instead and starts one
 background process that compiles the kernel for these argument types into the cache; a later call, in this

@@ -183,7 +183,11 @@ def logo_group(trial) -> str:
 # the defaults this round moved or added, their grids, and the metric each is chosen on
 LOGO_GRIDS = {
     "bias_noise_acc_factor": ([0.0, 0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
-    "acc_bias_sigma_init": ([0.0, 0.01, 0.03], "6D", "inclination"),
+    "acc_bias_sigma_init": ([0.0, 0.03, 0.1, 0.2], "6D", "inclination"),
+    "acc_bias_noise_acc_factor": ([0.5, 1.0, 2.0], "6D", "inclination"),
+    "acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "6D", "inclination"),
+    "9D acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "9D", "total"),
+    "offline acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "offline", "total"),
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
     "offline_time_factor": ([1.0, 1.5, 2.0, 3.0], "offline", "inclination"),
     "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
@@ -208,17 +212,18 @@ def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
         if tilt_only and mode != "tilt":
             continue
         per = {}
+        key = name.split()[-1]  # the parameter ("tilt tau_acc", "9D acc_bias_significance": the same one elsewhere)
         for v in values:
             if mode == "offline":
                 ev = evaluate(
-                    lambda t, v=v, name=name: attitude_offline(t.gyro, t.acc, t.mag, dt=t.dt, params={name: v}),
+                    lambda t, v=v, key=key: attitude_offline(t.gyro, t.acc, t.mag, dt=t.dt, params={key: v}),
                     trials,
                     heading_offset=False,
                 )
             elif mode == "tilt":
-                ev = evaluate("tilt", trials, params={name.split()[-1]: v})
+                ev = evaluate("tilt", trials, params={key: v})
             else:
-                ev = evaluate("attitude", trials, params={name: v}, mag=mode == "9D")
+                ev = evaluate("attitude", trials, params={key: v}, mag=mode == "9D")
             per[v] = np.array([r.get(metric) for r in ev.trials])
         held = np.empty(len(trials))
         chosen = {}

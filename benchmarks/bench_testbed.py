@@ -143,14 +143,14 @@ def conditions():
     deg = np.radians
     c = {}
     c["consumer, 100 Hz (base)"] = lambda s: (motion(s), 100.0, consumer(), (), 0.0, 10.0)
-    c["  same, accelerometer bias modelled"] = lambda s: (
+    c["  same, accelerometer bias not modelled"] = lambda s: (
         motion(s),
         100.0,
         consumer(),
         (),
         0.0,
         10.0,
-        {"acc_bias_sigma_init": 0.1},
+        {"acc_bias_sigma_init": 0.0},
     )
     c["ideal IMU"] = lambda s: (motion(s), 100.0, ImuModel.ideal(), (), 0.0, 10.0)
     c["tactical IMU"] = lambda s: (motion(s), 100.0, ImuModel.tactical(), (), 0.0, 10.0)

@@ -610,8 +610,9 @@ def _heading_after(seconds, disturbances=(), seeds=range(6)):
 def test_heading_is_acquired_within_ten_seconds_of_a_start_in_motion():
     # the heading mean restarts when the start's plain accelerometer mean hands over to the filter (its tilt,
     # and so the field's heading in it, is poorer before); VQF measured 1.75° mean, 4.2° worst on these
+    # (issue 29: within 2° on every seed, not on the mean)
     worst = _heading_after(10.0)
-    assert worst.mean() < 2.0 and worst.max() < 3.0  # measured 1.35° mean, 2.3° worst
+    assert worst.max() < 2.0, worst  # measured 1.23° mean, 1.92° worst (2.29° before the accelerometer-bias guard)
 
 
 def test_a_transient_first_field_is_not_taken_as_the_reference():
@@ -642,17 +643,37 @@ def test_offline_smooths_the_bias_so_the_start_knows_it_too():
     assert incl[1] < 0.25 * incl[0]  # measured 0.14° against 1.32°
 
 
-def test_an_uncalibrated_accelerometer_bias_can_be_estimated():
-    # 20/-15/10 mg on the accelerometer, a body turning every way: modelled, it no longer passes for a gyro bias
+def test_an_uncalibrated_accelerometer_bias_is_guarded_against():
+    # 20/-15/10 mg on the accelerometer, an ideal gyro, a body turning every way, 2 and 10 minutes: the bias in use
+    # only ever lessens the accelerometer's error (a shrunk estimate: never past the truth, never the wrong way),
+    # and the inclination is better than with the bias left out (measured 1.39° against 1.48° and 1.43° against
+    # 1.53°).  It is a guard more than an estimate: the gyro's errors are learnt first (attitude_estimator.py,
+    # step 3), so part of the bias's effect is taken as a gyro bias (0.1-0.2°/s) and the bias in use is
+    # 0.04-0.1 m/s² of the 0.2 on x
     acc_bias = np.array([20.0, -15.0, 10.0]) * 9.80665e-3
-    d = sim(RandomMotion(duration=120.0, seed=0), bias=0.0, imu=ImuModel(acc=TriadModel(bias=acc_bias)))
-    settled = slice(1000, None)
-    f = AttitudeEstimator({"acc_bias_sigma_init": 0.1})
+    for seconds in (120.0, 600.0):
+        d = sim(RandomMotion(duration=seconds, seed=0), bias=0.0, imu=ImuModel(acc=TriadModel(bias=acc_bias)))
+        settled = slice(1000, None)
+        f = AttitudeEstimator()  # modelled by default (acc_bias_sigma_init 0.1 m/s²)
+        modelled = f.update(d.gyro, d.acc, dt=0.01)
+        plain = attitude(d.gyro, d.acc, dt=0.01, params={"acc_bias_sigma_init": 0.0})
+        incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][settled])) for e in (modelled, plain)]
+        assert incl[0] < 0.96 * incl[1], incl
+        used = f.acc_bias_in_use
+        assert (np.abs(used - acc_bias) <= np.abs(acc_bias)).all(), used
+        assert np.linalg.norm(used - acc_bias) < 0.95 * np.linalg.norm(acc_bias), used
+
+
+def test_a_calibrated_accelerometer_keeps_its_readings():
+    # no accelerometer bias: what the regression finds stays within its uncertainty, so none is subtracted
+    # (the shrinkage, acc_bias_significance), and the inclination is what it was without the states
+    d = sim(RandomMotion(duration=120.0, seed=2, acceleration_scale=0.0), bias=0.0)
+    f = AttitudeEstimator()
     modelled = f.update(d.gyro, d.acc, dt=0.01)
-    plain = attitude(d.gyro, d.acc, dt=0.01)
-    incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][settled])) for e in (modelled, plain)]
-    assert incl[0] < 0.85 * incl[1], incl  # measured 1.16° against 1.48°
-    assert np.linalg.norm(f.acc_bias - acc_bias) < 0.5 * np.linalg.norm(acc_bias)
+    plain = attitude(d.gyro, d.acc, dt=0.01, params={"acc_bias_sigma_init": 0.0})
+    incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][1000:])) for e in (modelled, plain)]
+    assert np.abs(f.acc_bias_in_use).max() < 0.01, f.acc_bias_in_use  # 1 mg
+    assert incl[0] < 1.05 * incl[1] + 0.01, incl  # measured 0.062° both
 
 
 def _butterworth_gain(omega, tau):

@@ -171,6 +171,20 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
             P[c, i] = v
 
 
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def in_use(x, P, j, k2):
+    """The accelerometer bias subtracted on axis j: x_j - k2 P_jj / x_j, zero while x_j² <= k2 P_jj.
+
+    A positive-part shrinkage, continuous at the threshold (attitude_estimator.py, step 3).
+    """
+    v = x[j]
+    if k2 <= 0.0:
+        return v
+    if v * v <= k2 * P[j, j]:
+        return 0.0
+    return v - k2 * P[j, j] / v
+
+
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squares):
     """The AttitudeEstimator over a chunk (module notes of attitude.py); s and P are updated in place.
@@ -181,7 +195,9 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     p: tau_acc, tau_mag, bias forgetting variance rate, scale variance rate, motion noise density², kappa²,
     rest noise density², mag noise density², rest gyro threshold², rest acc threshold², rest time, rest filter
     tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
-    tau, new-field time, block length (s).
+    tau, new-field time, block length (s), linear-acceleration factor², start time (s), accelerometer-bias random
+    walk (0: not modelled), the accelerometer bias's own linear-acceleration factor², its significance² (the
+    shrinkage of the bias in use: in_use).
 
     Bias and its standard deviation change at block updates only, so they are not written per sample: segment
     i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[0, i]``) and its standard deviations
@@ -250,7 +266,7 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     sg1 = math.sqrt(P[1, 1])
     sg2 = math.sqrt(P[2, 2])
     bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
-    bax, bay, baz = x[6], x[7], x[8]
+    bax, bay, baz = in_use(x, P, 6, p[23]), in_use(x, P, 7, p[23]), in_use(x, P, 8, p[23])
     # the gyro's scale and bias correction times half the interval c_dt: φ/2 = ω (1 - s) dt/2 - b dt/2, formed
     # anew when the interval or the bias changes
     c_dt = -1.0
@@ -384,7 +400,7 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
             sg1 = math.sqrt(P[1, 1])
             sg2 = math.sqrt(P[2, 2])
             bx, by, bz, sx, sy, sz = x[0], x[1], x[2], x[3], x[4], x[5]
-            bax, bay, baz = x[6], x[7], x[8]
+            bax, bay, baz = in_use(x, P, 6, p[23]), in_use(x, P, 7, p[23]), in_use(x, P, 8, p[23])
             at_limit = FLAG_BIAS_AT_LIMIT if max(abs(bx), abs(by), abs(bz)) > prior else 0
             c_dt = -1.0
             tb = 0.0
@@ -618,7 +634,7 @@ def _block(
     tau_acc, tau_mag, q_bias, q_scale = p[0], p[1], p[2], p[3]
     r_motion, kappa2, r_rest, r_mag, prior = p[4], p[5], p[6], p[7], p[12]
     norm_th, dip_th, ref_tau, cur_tau, new_time = p[13], p[14], p[15], p[16], p[17]
-    acc_factor, start_time, q_acc = p[19], p[20], p[21]
+    acc_factor, start_time, q_acc, acc_bias_factor = p[19], p[20], p[21], p[22]
     w2_sum = accu[24]
     t_mag = accu[25]
     c = N_REG
@@ -634,6 +650,7 @@ def _block(
         # the bias's Gauss-Markov decay over the block (below)
         work[c + 5] = math.exp(-T * q_bias / (2.0 * prior * prior))
     p00, p01, p10, p11 = work[c + 1], work[c + 2], work[c + 3], work[c + 4]
+    u0, u1, u2 = in_use(x, P, 6, p[23]), in_use(x, P, 7, p[23]), in_use(x, P, 8, p[23])
     kmag, kcur, kref, phi = work[c + 6], work[c + 7], work[c + 8], work[c + 5]
     # The bias is a first-order Gauss-Markov process: stationary spread `prior` (the prior, instead of a clip),
     # and a correlation time that makes it wander as fast as the forgetting rate says while far inside the prior
@@ -690,8 +707,8 @@ def _block(
             ra[i] = (y - s[RLP + i]) / T
             s[RLP + i] = y
         along = ra[0] * s[AFO] + ra[1] * s[AFO + 1] + ra[2] * s[AFO + 2]
-        r_acc = acc_factor * (ra[0] ** 2 + ra[1] ** 2 + ra[2] ** 2 - along * along / g2) * tau_acc / g2
-    rm = (r_motion + kappa2 * w2 + r_acc) / T
+        r_acc = (ra[0] ** 2 + ra[1] ** 2 + ra[2] ** 2 - along * along / g2) * tau_acc / g2
+    rm = (r_motion + kappa2 * w2 + acc_factor * r_acc) / T
     for j in range(3):
         H[0, j] = lp[j]
         H[1, j] = lp[3 + j]
@@ -707,11 +724,47 @@ def _block(
     for j in range(3):
         H[0, 6 + j] = -d0[3 + j] * inv_gt
         H[1, 6 + j] = d0[j] * inv_gt
-        z[0] += H[0, 6 + j] * x[6 + j]
-        z[1] += H[1, 6 + j] * x[6 + j]
+    z[0] += H[0, 6] * u0 + H[0, 7] * u1 + H[0, 8] * u2
+    z[1] += H[1, 6] * u0 + H[1, 7] * u1 + H[1, 8] * u2
     R[0] = rm
     R[1] = rm
-    if not starting:  # while the start averages, the correction does not follow the low-pass the regression models
+    if starting:  # while the start averages, the correction does not follow the low-pass the regression models
+        pass
+    elif q_acc <= 0.0:
+        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
+    else:
+        # The accelerometer bias and the gyro's errors are learnt one after the other (attitude_estimator.py, step
+        # 3).  First the gyro's, the bias in use taken as known, its uncertainty h P_a hᵀ added to the noise as a
+        # rate correlated over tau_acc (as the linear acceleration's): the correction turns by what the bias in
+        # use is still wrong by, and so it moves the frame as a gyro bias would.
+        h00, h01, h02 = H[0, 6], H[0, 7], H[0, 8]
+        h10, h11, h12 = H[1, 6], H[1, 7], H[1, 8]
+        va = P[6, 6] * h00 * h00 + P[7, 7] * h01 * h01 + P[8, 8] * h02 * h02
+        va += 2.0 * (P[6, 7] * h00 * h01 + P[6, 8] * h00 * h02 + P[7, 8] * h01 * h02)
+        vb = P[6, 6] * h10 * h10 + P[7, 7] * h11 * h11 + P[8, 8] * h12 * h12
+        vb += 2.0 * (P[6, 7] * h10 * h11 + P[6, 8] * h10 * h12 + P[7, 8] * h11 * h12)
+        # (the mean of the two horizontal axes': the same whatever the heading of the frame the regressors are taken
+        # in, so 6D and 9D learn
+        # alike)
+        R[0] = rm + 0.5 * (va + vb) * tau_acc / T
+        R[1] = R[0]
+        for j in range(6, NX):
+            H[0, j] = 0.0
+            H[1, j] = 0.0
+        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
+        # Then the accelerometer bias from what is left, with the linear acceleration's whole noise (its factor
+        # acc_bias_factor², 1 by default, not the gyro's 0.1): a lever arm's or a translation's acceleration, which
+        # the gyro's learning may half ignore, must not be read as a bias fixed in the body.
+        for a in range(2):
+            d = z[a]
+            for j in range(6):
+                d -= H[a, j] * x[j]
+                H[a, j] = 0.0
+            z[a] = d
+        H[0, 6], H[0, 7], H[0, 8] = h00, h01, h02
+        H[1, 6], H[1, 7], H[1, 8] = h10, h11, h12
+        R[0] = (r_motion + kappa2 * w2 + acc_bias_factor * r_acc) / T
+        R[1] = R[0]
         kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
     if at_rest:
         for a in range(3):

@@ -151,12 +151,12 @@ def attitude_offline(
     sigma = 1.0 / np.sqrt(info_f + info_b)
     scale = 0.5 * (first.scale + back.scale)  # each pass's final estimate has seen the whole record
     # 2. the inclination: the gyro frame of the gyro corrected by the smoothed bias and scale (and the accelerometer
-    # by the passes' accelerometer bias, zero unless modelled), corrected by the accelerometer in that frame
-    # low-passed forward and backward in time (zero phase: _offline_numba.py)
+    # by the passes' accelerometer bias in use, zero where the data do not show one), corrected by the accelerometer
+    # in that frame low-passed forward and backward in time (zero phase: _offline_numba.py)
     pin = clipped_components(g, p.gyro_range, GYRO_FLOOR)  # the passes bridged the clipped gyro; so does this frame
     gb = g if pin is None else bridged(g, pin)
     corrected = gb - bias - scale * gb
-    a6 = np.ascontiguousarray(a - 0.5 * (first.acc_bias + back.acc_bias))
+    a6 = np.ascontiguousarray(a - 0.5 * (first.acc_bias_in_use + back.acc_bias_in_use))
     n = g.shape[0]
     dts = np.zeros(n)  # the interval ending at each sample; the first attitude is the one at the first sample
     dts[1:] = np.diff(np.asarray(t, dtype=np.float64)) if t is not None else np.broadcast_to(dt, (n,))[1:]

@@ -646,10 +646,10 @@ def test_offline_smooths_the_bias_so_the_start_knows_it_too():
 def test_an_uncalibrated_accelerometer_bias_is_guarded_against():
     # 20/-15/10 mg on the accelerometer, an ideal gyro, a body turning every way, 2 and 10 minutes: the bias in use
     # only ever lessens the accelerometer's error (a shrunk estimate: never past the truth, never the wrong way),
-    # and the inclination is better than with the bias left out (measured 1.39° against 1.48° and 1.43° against
+    # and the inclination is better than with the bias left out (measured 1.40° against 1.48° and 1.38° against
     # 1.53°).  It is a guard more than an estimate: the gyro's errors are learnt first (attitude_estimator.py,
-    # step 3), so part of the bias's effect is taken as a gyro bias (0.1-0.2°/s) and the bias in use is
-    # 0.04-0.1 m/s² of the 0.2 on x
+    # step 3), so part of the bias's effect is taken as a gyro bias, and after 10 minutes 0.1 m/s² of the 0.2 on x
+    # is in use (none after 2: the estimate is still within its standard deviation)
     acc_bias = np.array([20.0, -15.0, 10.0]) * 9.80665e-3
     for seconds in (120.0, 600.0):
         d = sim(RandomMotion(duration=seconds, seed=0), bias=0.0, imu=ImuModel(acc=TriadModel(bias=acc_bias)))
@@ -661,7 +661,7 @@ def test_an_uncalibrated_accelerometer_bias_is_guarded_against():
         assert incl[0] < 0.96 * incl[1], incl
         used = f.acc_bias_in_use
         assert (np.abs(used - acc_bias) <= np.abs(acc_bias)).all(), used
-        assert np.linalg.norm(used - acc_bias) < 0.95 * np.linalg.norm(acc_bias), used
+    assert np.linalg.norm(used - acc_bias) < 0.85 * np.linalg.norm(acc_bias), used
 
 
 def test_a_calibrated_accelerometer_keeps_its_readings():

@@ -734,9 +734,10 @@ def _block(
         kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
     else:
         # The accelerometer bias and the gyro's errors are learnt one after the other (attitude_estimator.py, step
-        # 3).  First the gyro's, the bias in use taken as known, its uncertainty h P_a hᵀ added to the noise as a
-        # rate correlated over tau_acc (as the linear acceleration's): the correction turns by what the bias in
-        # use is still wrong by, and so it moves the frame as a gyro bias would.
+        # 3).  First the gyro's, the bias in use (u, subtracted from the accelerometer, so z - H_a u is what the
+        # gyro's errors alone explain) taken as known, its uncertainty h P_a hᵀ added to the noise as a rate
+        # correlated over tau_acc (as the linear acceleration's): what the bias in use is still wrong by moves the
+        # correction as a gyro bias would.
         h00, h01, h02 = H[0, 6], H[0, 7], H[0, 8]
         h10, h11, h12 = H[1, 6], H[1, 7], H[1, 8]
         va = P[6, 6] * h00 * h00 + P[7, 7] * h01 * h01 + P[8, 8] * h02 * h02
@@ -744,14 +745,17 @@ def _block(
         vb = P[6, 6] * h10 * h10 + P[7, 7] * h11 * h11 + P[8, 8] * h12 * h12
         vb += 2.0 * (P[6, 7] * h10 * h11 + P[6, 8] * h10 * h12 + P[7, 8] * h11 * h12)
         # (the mean of the two horizontal axes': the same whatever the heading of the frame the regressors are taken
-        # in, so 6D and 9D learn
-        # alike)
+        # in, so 6D and 9D learn alike)
         R[0] = rm + 0.5 * (va + vb) * tau_acc / T
         R[1] = R[0]
+        z0, z1 = z[0], z[1]
+        z[0] -= h00 * u0 + h01 * u1 + h02 * u2
+        z[1] -= h10 * u0 + h11 * u1 + h12 * u2
         for j in range(6, NX):
             H[0, j] = 0.0
             H[1, j] = 0.0
         kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
+        z[0], z[1] = z0, z1
         # Then the accelerometer bias from what is left, with the linear acceleration's whole noise (its factor
         # acc_bias_factor², 1 by default, not the gyro's 0.1): a lever arm's or a translation's acceleration, which
         # the gyro's learning may half ignore, must not be read as a bias fixed in the body.

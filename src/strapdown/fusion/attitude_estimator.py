@@ -42,14 +42,15 @@ How it works
    linear acceleration does); then the accelerometer bias from what is left, its noise with the whole
    linear-acceleration term (``acc_bias_noise_acc_factor``, 1, where the gyro's learning takes 0.1), so that
    an acceleration the body sustains in one direction is not read as a bias fixed in it.  What is subtracted
-   from the accelerometer is the estimate shrunk towards zero, x - k² σ²/x per axis, none while |x| <= k σ
-   (``acc_bias_significance`` k, 0.5): an estimate within its uncertainty is left out, so a calibrated part's
-   readings are kept as they are (``acc_bias_in_use``).  Measured: BROAD 6D 0.642° -> 0.639°, 9D 1.909° ->
-   1.918°, offline 1.534° level (benchmarks/bench_attitude.py, leave-one-group-out for the three parameters);
-   test-bed 9D ahead of VQF in 19 of 22 conditions (15 before), the consumer 6D 1.57° -> 1.51° (VQF 1.27°);
+   from the accelerometer is the estimate shrunk towards zero, x - k² σ²/x per axis, none while ``|x|`` <= k σ
+   (``acc_bias_significance`` k, 1): an estimate within its uncertainty is left out, so a calibrated part's
+   readings are kept as they are (``acc_bias_in_use``).  Measured: BROAD 6D 0.642° -> 0.638°, 9D 1.909° ->
+   1.922°, offline 1.534° -> 1.538° (benchmarks/bench_attitude.py, leave-one-group-out for the three
+   parameters); test-bed 9D ahead of VQF in 18 of 22 conditions (15 before), the consumer 6D 1.57° -> 1.52°
+   (VQF 1.27°);
    simulated starts in motion within 2° of heading after 10 s on every seed (tests/fusion/test_attitude.py).
-   It is a guard more than an estimate: learnt second, the bias is found only in part (0.04-0.1 m/s² of a
-   simulated 0.2), since the gyro's learning takes some of its effect first.
+   It is a guard more than an estimate: learnt second, the bias is found only in part (0.1 m/s² of a simulated
+   0.2 after 10 minutes), since the gyro's learning takes some of its effect first.
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
    mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
    mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
@@ -181,8 +182,8 @@ class AttitudeParams:
         rate at which the low-passed linear acceleration moves the correction).
     acc_bias_significance : float
         The accelerometer bias subtracted is the estimate x shrunk to x - k² σ²/x per axis, and none while
-        |x| <= k σ (σ its standard deviation); k is this, default 0.5 (leave-one-group-out on BROAD: 6D picks 1,
-        9D and offline 0); 0 subtracts the whole estimate.
+        ``|x|`` <= k σ (σ its standard deviation); k is this, default 1 (leave-one-group-out on BROAD: 6D picks 1 in
+        every fold, 9D in eight of nine, offline 0.5); 0 subtracts the whole estimate.
     bias_noise_mag : float
         Noise density of the vertical-bias measurement from the heading rate, rad/s·√s (default 1.8°/s·√s);
         0 turns it off.
@@ -247,7 +248,7 @@ class AttitudeParams:
     acc_bias_sigma_init: float = 0.1
     acc_bias_noise: float = 1e-4
     acc_bias_noise_acc_factor: float = 1.0
-    acc_bias_significance: float = 0.5
+    acc_bias_significance: float = 1.0
     bias_noise_mag: float = 1.8 * _DEG
     rest_gyro: float = 2.0 * _DEG
     rest_acc: float = 0.5
@@ -470,7 +471,7 @@ class AttitudeEstimator(Estimator):
     def acc_bias_in_use(self) -> np.ndarray | None:
         """The accelerometer bias subtracted from the readings, m/s² (sensor axes).
 
-        The estimate x shrunk to x - k² σ²/x per axis, zero while |x| <= k σ (k = ``acc_bias_significance``;
+        The estimate x shrunk to x - k² σ²/x per axis, zero while ``|x|`` <= k σ (k = ``acc_bias_significance``;
         module notes, step 3).
         """
         if self._state is None:

@@ -86,39 +86,41 @@ N_SUMS = 30  # block sums: 14 acc regressors (12, 13 formed at the update), 7 ma
 
 
 @nb.njit(cache=True, error_model="numpy")
-def kalman(x, P, H, z, R, nm, PHt, K, tmp):
+def kalman(x, P, H, z, R, nm, PHt, K, tmp, lo, hi):
     """In-place Kalman update of the NX-state x, P with nm <= 3 measurements z = H x + noise of variances R.
 
     Written for speed at the block rate: P is symmetric, so only its upper triangle is formed and mirrored.
     A function of its own, not inlined: it runs once per block, and each inlined copy of its unrolled loops
     lengthened the estimator's first compilation by seconds (benchmarks/bench_coldstart.py).  Callers pass
-    ``nm`` as ``np.int64(n)``: a literal would compile one specialisation per count.
+    ``nm`` as ``np.int64(n)``: a literal would compile one specialisation per count.  Only states lo..hi-1 are
+    updated: for a block of P with no covariance with the rest and H zero outside it, that is the whole update
+    (the accelerometer bias's and the gyro's, attitude_estimator.py step 3), at a fraction of the work.
     """
     for j in range(nm):
-        for i in range(NX):
+        for i in range(lo, hi):
             d = 0.0
-            for c in range(NX):
+            for c in range(lo, hi):
                 d += P[i, c] * H[j, c]
             PHt[i, j] = d
     # S = H P Hᵀ + R, inverted in closed form
     s00 = R[0]
-    for c in range(NX):
+    for c in range(lo, hi):
         s00 += H[0, c] * PHt[c, 0]
     if nm == 1:
         i00 = 1.0 / s00
-        for i in range(NX):
+        for i in range(lo, hi):
             K[i, 0] = PHt[i, 0] * i00
     elif nm == 2:
         s01 = 0.0
         s11 = R[1]
-        for c in range(NX):
+        for c in range(lo, hi):
             s01 += H[0, c] * PHt[c, 1]
             s11 += H[1, c] * PHt[c, 1]
         det = s00 * s11 - s01 * s01
         i00 = s11 / det
         i01 = -s01 / det
         i11 = s00 / det
-        for i in range(NX):
+        for i in range(lo, hi):
             a0 = PHt[i, 0]
             a1 = PHt[i, 1]
             K[i, 0] = a0 * i00 + a1 * i01
@@ -127,7 +129,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
         s01 = s02 = s12 = 0.0
         s11 = R[1]
         s22 = R[2]
-        for c in range(NX):
+        for c in range(lo, hi):
             s01 += H[0, c] * PHt[c, 1]
             s02 += H[0, c] * PHt[c, 2]
             s11 += H[1, c] * PHt[c, 1]
@@ -143,7 +145,7 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
         i11 = (s00 * s22 - s02 * s02) * inv_det
         i12 = (s01 * s02 - s00 * s12) * inv_det
         i22 = (s00 * s11 - s01 * s01) * inv_det
-        for i in range(NX):
+        for i in range(lo, hi):
             a0 = PHt[i, 0]
             a1 = PHt[i, 1]
             a2 = PHt[i, 2]
@@ -152,17 +154,17 @@ def kalman(x, P, H, z, R, nm, PHt, K, tmp):
             K[i, 2] = a0 * i02 + a1 * i12 + a2 * i22
     for j in range(nm):
         d = z[j]
-        for c in range(NX):
+        for c in range(lo, hi):
             d -= H[j, c] * x[c]
         tmp[j] = d
-    for i in range(NX):
+    for i in range(lo, hi):
         d = 0.0
         for j in range(nm):
             d += K[i, j] * tmp[j]
         x[i] += d
     # P -= K (H P) = K PHtᵀ, upper triangle then mirrored
-    for i in range(NX):
-        for c in range(i, NX):
+    for i in range(lo, hi):
+        for c in range(i, hi):
             d = 0.0
             for j in range(nm):
                 d += K[i, j] * PHt[c, j]
@@ -730,8 +732,8 @@ def _block(
     R[1] = rm
     if starting:  # while the start averages, the correction does not follow the low-pass the regression models
         pass
-    elif q_acc <= 0.0:
-        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
+    elif P[6, 6] <= 0.0 and P[7, 7] <= 0.0 and P[8, 8] <= 0.0:  # no accelerometer bias modelled
+        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp, np.int64(0), np.int64(NX))
     else:
         # The accelerometer bias and the gyro's errors are learnt one after the other (attitude_estimator.py, step
         # 3).  First the gyro's, the bias in use (u, subtracted from the accelerometer, so z - H_a u is what the
@@ -754,7 +756,7 @@ def _block(
         for j in range(6, NX):
             H[0, j] = 0.0
             H[1, j] = 0.0
-        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp, np.int64(0), np.int64(6))
         z[0], z[1] = z0, z1
         # Then the accelerometer bias from what is left, with the linear acceleration's whole noise (its factor
         # acc_bias_factor², 1 by default, not the gyro's 0.1): a lever arm's or a translation's acceleration, which
@@ -769,7 +771,7 @@ def _block(
         H[1, 6], H[1, 7], H[1, 8] = h10, h11, h12
         R[0] = (r_motion + kappa2 * w2 + acc_bias_factor * r_acc) / T
         R[1] = R[0]
-        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(2), PHt, K, tmp, np.int64(6), np.int64(NX))
     if at_rest:
         for a in range(3):
             for j in range(NX):
@@ -779,7 +781,7 @@ def _block(
         z[0] = rgx
         z[1] = rgy
         z[2] = rgz
-        kalman(x, P, H, z, R, np.int64(3), PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(3), PHt, K, tmp, np.int64(0), np.int64(NX))
     if not use_mag or t_mag <= 0.0:
         return
     # magnetometer: the field in the 6D frame, its norm and dip against a learned reference, the heading offset
@@ -859,7 +861,7 @@ def _block(
             H[0, j] = 0.0
         z[0] = s[V7 + 6] - step / T
         R[0] = (r_mag + kappa2 * w2) / T
-        kalman(x, P, H, z, R, np.int64(1), PHt, K, tmp)
+        kalman(x, P, H, z, R, np.int64(1), PHt, K, tmp, np.int64(0), np.int64(NX))
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath={"contract"})

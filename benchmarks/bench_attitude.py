@@ -1,7 +1,8 @@
 """The AttitudeEstimator against VQF: accuracy on BROAD, robustness, simulated checks, throughput (issue 7).
 
     python benchmarks/bench_attitude.py [--broad DIR] [--n 1000000] [--repeat 5] [--skip-surface] [--json F]
-                                        [--only accuracy,surface,irregular,logo,simulated,throughput] [--trials 01,06]
+                                        [--only accuracy,surface,irregular,logo,lever,simulated,throughput]
+                                        [--trials 01,06]
 
 Accuracy: the 22 BROAD trials (CC BY 4.0; Laidig et al. 2021), official metric, one parameter set for all
 trials (the defaults), online 6D and 9D and offline 9D, with vqf's VQF and offlineVQF (defaults) run in the same
@@ -16,6 +17,11 @@ trial but one and scored on the one left out; the pooled held-out mean next to t
 Irregular sampling (issue 13): each trial as recorded, with 10 % of its rows dropped at random (the true times of
 the rest passed as ``t``), and with 10 % of its accelerometer and 10 % of its magnetometer rows NaN ("no sample");
 the mean errors of the AttitudeEstimator online and offline and of the TiltEstimator, and their change.
+
+Lever arm (issue 29): per trial, a least-squares fit of the accelerometer against the optical truth's gravity,
+a - R^T g = ω̇ × r + ω × (ω × r) + b (ω̇ by central differences, 5-sample mean), next to a bias-only fit, and the
+AttitudeEstimator's own lever-arm estimate at the end of the trial: the sensor's offset r from the point the board
+turns about, which the accelerometer-bias states read as a bias when it is not modelled.
 
 Simulated checks (strapdown.simulate, ideal sensors but for what is named): a 0.5°/s gyro bias on every axis on a
 platform rocking and turning in place and on a body turning every way; a magnet near the sensor for 10 s.
@@ -184,10 +190,12 @@ def logo_group(trial) -> str:
 LOGO_GRIDS = {
     "bias_noise_acc_factor": ([0.0, 0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
     "acc_bias_sigma_init": ([0.0, 0.03, 0.1, 0.2], "6D", "inclination"),
-    "acc_bias_noise_acc_factor": ([0.5, 1.0, 2.0], "6D", "inclination"),
+    "acc_bias_noise_acc_factor": ([0.03, 0.1, 0.3, 1.0], "6D", "inclination"),
+    "lever_arm_sigma_init": ([0.0, 0.05, 0.1, 0.2], "6D", "inclination"),
+    "9D lever_arm_sigma_init": ([0.0, 0.05, 0.1, 0.2], "9D", "total"),
     "acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "6D", "inclination"),
     "9D acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "9D", "total"),
-    "offline acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "offline", "total"),
+    "offline_acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "offline", "total"),
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
     "offline_time_factor": ([1.0, 1.5, 2.0, 3.0], "offline", "inclination"),
     "tilt tau_acc": ([2.0, 2.5, 3.0, 3.5, 4.0], "tilt", "inclination"),
@@ -247,6 +255,50 @@ def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
             "default_in_sample": float(per[default].mean()),
             "grid": {str(v): float(per[v].mean()) for v in values},
             "choices": {g: float(v) for g, v in chosen.items()},
+        }
+    return out
+
+
+def _skew(v):
+    z = np.zeros(len(v))
+    rows = [[z, -v[:, 2], v[:, 1]], [v[:, 2], z, -v[:, 0]], [-v[:, 1], v[:, 0], z]]
+    return np.stack([np.stack(r, -1) for r in rows], -2)
+
+
+def lever_arms(trials) -> dict:
+    """The lever arm BROAD's accelerometer shows against the optical truth, and the estimator's (module notes)."""
+    from strapdown.fusion import AttitudeEstimator
+    from strapdown.rotations.quaternion import conjugate, rotate
+
+    print("\nLever arm: least-squares fit of a - R^T g = ω̇ × r + ω × (ω × r) + b (sensor axes; cm, m/s²)")
+    print(f"  {'trial':40} {'fitted r':>22} {'b':>22} {'RMS: b only':>12} {'r and b':>8} {'estimator r':>22}")
+    out = {}
+    kernel = np.ones(5) / 5.0
+    for t in trials:
+        ok = np.all(np.isfinite(t.quat), axis=1)
+        wd = np.gradient(t.gyro, t.dt, axis=0)
+        wd = np.column_stack([np.convolve(wd[:, i], kernel, mode="same") for i in range(3)])[ok]
+        w = t.gyro[ok]
+        up = rotate(conjugate(t.quat[ok]), np.tile([0.0, 0.0, 9.80665], (int(ok.sum()), 1)))  # ENU: +g up
+        y = (t.acc[ok] - up).reshape(-1)
+        W = _skew(w)
+        M = _skew(wd) + W @ W
+        eye = np.broadcast_to(np.eye(3), M.shape)
+        A = np.concatenate([M, eye], axis=-1).reshape(-1, 6)
+        sol = np.linalg.lstsq(A, y, rcond=None)[0]
+        bias_only = np.linalg.lstsq(eye.reshape(-1, 3), y, rcond=None)[0]
+        rms_b = float(np.sqrt(np.mean((y - eye.reshape(-1, 3) @ bias_only) ** 2)))
+        rms_rb = float(np.sqrt(np.mean((y - A @ sol) ** 2)))
+        est = AttitudeEstimator()
+        est.update(t.gyro, t.acc, dt=t.dt)
+        r, b, e = (
+            np.array2string(v, precision=2, suppress_small=True) for v in (sol[:3] * 100, sol[3:], est.lever_arm * 100)
+        )
+        print(f"  {t.name[:40]:40} {r:>22} {b:>22} {rms_b:12.3f} {rms_rb:8.3f} {e:>22}")
+        out[t.name] = {
+            "r_cm": (sol[:3] * 100).tolist(),
+            "b": sol[3:].tolist(),
+            "estimator_r_cm": (est.lever_arm * 100).tolist(),
         }
     return out
 
@@ -440,7 +492,7 @@ def main(argv=None):
     ap.add_argument(
         "--only",
         help="comma-separated sections: accuracy, surface, irregular, logo (or logo-tilt: the TiltEstimator's "
-        "grids alone), simulated, throughput (default: all)",
+        "grids alone), lever, simulated, throughput (default: all)",
     )
     ap.add_argument("--trials", help="comma-separated trial numbers to use (default: all 22), e.g. 01,06,21")
     ap.add_argument("--json")
@@ -452,7 +504,7 @@ def main(argv=None):
     t0 = time.perf_counter()
     results = {}
     trials = []
-    every = {"accuracy", "surface", "irregular", "logo", "simulated", "throughput"}  # and logo-tilt
+    every = {"accuracy", "surface", "irregular", "logo", "lever", "simulated", "throughput"}  # and logo-tilt
     sections = set(args.only.split(",")) if args.only else every
     if args.skip_surface:
         sections.discard("surface")
@@ -473,6 +525,8 @@ def main(argv=None):
             results["leave_one_group_out"] = leave_one_group_out(trials)
         elif "logo-tilt" in sections:  # the TiltEstimator's grids alone (fast)
             results["leave_one_group_out"] = leave_one_group_out(trials, tilt_only=True)
+        if "lever" in sections:
+            results["lever"] = lever_arms(trials)
     else:
         print(f"BROAD not found at {args.broad}: accuracy skipped")
     if "simulated" in sections:

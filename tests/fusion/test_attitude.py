@@ -20,6 +20,7 @@ from strapdown.fusion import (
     attitude,
     attitude_offline,
 )
+from strapdown.rotations.quaternion import multiply, rotate
 from strapdown.simulate import (
     ConstantRotation,
     ImuModel,
@@ -30,6 +31,7 @@ from strapdown.simulate import (
     TriadModel,
     sample,
 )
+from strapdown.simulate.trajectories import Trajectory
 
 BIAS = np.radians(0.5)  # 0.5°/s on every axis
 FIELD = MagneticField(declination_deg=0.0)  # magnetic north = true north, so the truth's heading is the field's
@@ -612,7 +614,7 @@ def test_heading_is_acquired_within_ten_seconds_of_a_start_in_motion():
     # and so the field's heading in it, is poorer before); VQF measured 1.75° mean, 4.2° worst on these
     # (issue 29: within 2° on every seed, not on the mean)
     worst = _heading_after(10.0)
-    assert worst.max() < 2.0, worst  # measured 1.23° mean, 1.92° worst (2.29° before the accelerometer-bias guard)
+    assert worst.max() < 2.0, worst  # measured 1.25° mean, 1.87° worst (2.29° before the accelerometer-bias guard)
 
 
 def test_a_transient_first_field_is_not_taken_as_the_reference():
@@ -645,11 +647,11 @@ def test_offline_smooths_the_bias_so_the_start_knows_it_too():
 
 def test_an_uncalibrated_accelerometer_bias_is_guarded_against():
     # 20/-15/10 mg on the accelerometer, an ideal gyro, a body turning every way, 2 and 10 minutes: the bias in use
-    # only ever lessens the accelerometer's error (a shrunk estimate: never past the truth, never the wrong way),
-    # and the inclination is better than with the bias left out (measured 1.40° against 1.48° and 1.38° against
-    # 1.53°).  It is a guard more than an estimate: the gyro's errors are learnt first (attitude_estimator.py,
-    # step 3), so part of the bias's effect is taken as a gyro bias, and after 10 minutes 0.1 m/s² of the 0.2 on x
-    # is in use (none after 2: the estimate is still within its standard deviation)
+    # lessens the accelerometer's error (a shrunk estimate: never the wrong way, and the error as a whole down),
+    # and the inclination is better than with the bias left out (measured 1.27° against 1.45° and 1.25° against
+    # 1.50°).  x, the axis this motion shows best, is found (0.18 of 0.20 m/s² after 10 minutes); z, which it shows
+    # least, is overestimated (0.19 of 0.10: the body's linear acceleration, read through few turns), y is still
+    # within its uncertainty and left out
     acc_bias = np.array([20.0, -15.0, 10.0]) * 9.80665e-3
     for seconds in (120.0, 600.0):
         d = sim(RandomMotion(duration=seconds, seed=0), bias=0.0, imu=ImuModel(acc=TriadModel(bias=acc_bias)))
@@ -658,10 +660,64 @@ def test_an_uncalibrated_accelerometer_bias_is_guarded_against():
         modelled = f.update(d.gyro, d.acc, dt=0.01)
         plain = attitude(d.gyro, d.acc, dt=0.01, params={"acc_bias_sigma_init": 0.0})
         incl = [deg(rmse(attitude_errors(e.q, d.q_true[1:])["inclination"][settled])) for e in (modelled, plain)]
-        assert incl[0] < 0.96 * incl[1], incl
+        assert incl[0] < 0.92 * incl[1], incl
         used = f.acc_bias_in_use
-        assert (np.abs(used - acc_bias) <= np.abs(acc_bias)).all(), used
-    assert np.linalg.norm(used - acc_bias) < 0.85 * np.linalg.norm(acc_bias), used
+        assert (used * acc_bias >= 0).all(), used
+        assert np.linalg.norm(used - acc_bias) < 0.8 * np.linalg.norm(acc_bias), used
+    assert abs(used[0] - acc_bias[0]) < 0.15 * abs(acc_bias[0]), used
+
+
+def test_a_pendulum_is_a_lever_arm_not_an_accelerometer_bias():
+    # A sensor at the bob of a 0.5 m pendulum (swinging 30° at its natural rate, its plane turning at 5°/s; an
+    # ideal IMU): the turn about the pivot accelerates it by ω̇ × r + ω × (ω × r), along the rod on average.
+    # The lever-arm states find the rod (sensor axes FLU: r = (0, 0, -0.5) m; measured -0.475 m, sideways within
+    # 2 mm), and the accelerometer bias in use stays zero; without the lever arm the same motion is read as a
+    # bias of 0.57 m/s² along the rod (attitude_estimator.py, step 3)
+    d = sim(_Pendulum(120.0), bias=0.0, imu=ImuModel.ideal())
+    f = AttitudeEstimator()
+    f.update(d.gyro, d.acc, dt=0.01)
+    assert abs(f.lever_arm[2] + 0.5) < 0.05, f.lever_arm
+    assert np.abs(f.lever_arm[:2]).max() < 0.01, f.lever_arm
+    assert np.abs(f.acc_bias_in_use).max() < 0.02, f.acc_bias_in_use
+    without = AttitudeEstimator({"lever_arm_sigma_init": 0.0})
+    without.update(d.gyro, d.acc, dt=0.01)
+    assert without.lever_arm.tolist() == [0.0, 0.0, 0.0]
+    assert without.acc_bias_in_use[2] > 0.3, without.acc_bias_in_use  # the test can fail: measured 0.57
+
+
+class _Pendulum(Trajectory):
+    """A pendulum of ``length`` m swinging at sqrt(g/L), amplitude 30°, its plane turning at 5°/s about the
+    vertical; the sensor at the bob (NED, FRD: the rod along body z, the pivot at -L z), so its position is R r with
+    r = (0, 0, L) and its acceleration d²(R r)/dt² (central differences of the exact attitude)."""
+
+    def __init__(self, duration, length=0.5, amplitude_deg=30.0, precession_deg_s=5.0):
+        self.duration, self.length = duration, length
+        self.amplitude, self.precession = np.radians(amplitude_deg), np.radians(precession_deg_s)
+        self.omega = np.sqrt(9.80665 / length)
+
+    def _angles(self, t):
+        t = np.atleast_1d(np.asarray(t, dtype=np.float64))
+        theta = self.amplitude * np.cos(self.omega * t)
+        return theta, -self.amplitude * self.omega * np.sin(self.omega * t), self.precession * t
+
+    def attitude(self, t):
+        theta, _, psi = self._angles(t)
+        zero = 0.0 * psi
+        yaw = np.column_stack([np.cos(psi / 2), zero, zero, np.sin(psi / 2)])
+        return multiply(yaw, np.column_stack([np.cos(theta / 2), np.sin(theta / 2), zero, zero]))
+
+    def rate(self, t):
+        theta, theta_dot, _ = self._angles(t)
+        return np.column_stack([theta_dot, self.precession * np.sin(theta), self.precession * np.cos(theta)])
+
+    def acceleration(self, t):
+        t = np.atleast_1d(np.asarray(t, dtype=np.float64))
+        h = 1e-3
+
+        def position(s):
+            return rotate(self.attitude(s), np.tile([0.0, 0.0, self.length], (s.size, 1)))
+
+        return (position(t + h) - 2.0 * position(t) + position(t - h)) / (h * h)
 
 
 def test_a_calibrated_accelerometer_keeps_its_readings():

@@ -139,7 +139,7 @@ def test_handheld_gyro_clipped_at_400_deg_s(seed):
     for i in range(4):
         assert errors["clip"][i] <= 1.5 * errors["clean"][i], errors
     # without the detection (the test can fail): the turns the clipped gyro lost stay in every estimate (measured
-    # 1.39, 1.19, 1.56 and 1.41 times the errors with it)
+    # 1.47, 1.52, 1.64 and 1.41 times the errors with it)
     if seed == 0:
         assert all(b > 1.15 * c for b, c in zip(errors["blind"], errors["clip"], strict=True)), errors
 

@@ -28,29 +28,33 @@ How it works
    accelerating at 2 m/s² learns a wrong bias without it (with it, the inclination error is 0.88 of that without:
    tests/fusion/test_attitude.py); the factor (0.1) is chosen by leave-one-group-out
    on BROAD (benchmarks/bench_attitude.py), where larger values cost the bias learning more than they save.
-   An accelerometer bias b_a leaves LP[R b_a] in the filtered vector, which turns with the body and so also
-   moves the correction like a gyro bias: a consumer accelerometer's 20 mg, uncorrected, makes the regression
-   learn a wrong gyro bias (benchmarks/bench_testbed.py: consumer IMU 1.57° 6D against VQF's 1.27°).  Three
-   more states model it (prior ``acc_bias_sigma_init``, 0.1 m/s², a consumer part's spread): over a block the
-   correction turns by (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g (R_i the rows of R, ΔLP their low-passed change).  One
-   joint update of gyro and accelerometer states, tried first, learnt the simulated bias well but read
-   BROAD's translations and lever arms as one (tens of mg on an accelerometer whose norm at rest is within a
-   few mg of g; 6D 0.64° -> 1.01°), so the block's measurement is used twice instead, as two filters that
-   each take the other's estimate as known (the covariance stays block-diagonal):
-   first the gyro's errors, with the accelerometer estimate's remaining uncertainty h P_a hᵀ added to their
-   noise as a rate correlated over tau_acc (what the bias may still be wrong by moves the correction as the
-   linear acceleration does); then the accelerometer bias from what is left, its noise with the whole
-   linear-acceleration term (``acc_bias_noise_acc_factor``, 1, where the gyro's learning takes 0.1), so that
-   an acceleration the body sustains in one direction is not read as a bias fixed in it.  What is subtracted
-   from the accelerometer is the estimate shrunk towards zero, x - k² σ²/x per axis, none while ``|x|`` <= k σ
-   (``acc_bias_significance`` k, 1): an estimate within its uncertainty is left out, so a calibrated part's
-   readings are kept as they are (``acc_bias_in_use``).  Measured: BROAD 6D 0.642° -> 0.638°, 9D 1.909° ->
-   1.922°, offline 1.534° -> 1.538° (benchmarks/bench_attitude.py, leave-one-group-out for the three
-   parameters); test-bed 9D ahead of VQF in 18 of 22 conditions (15 before), the consumer 6D 1.57° -> 1.52°
-   (VQF 1.27°);
-   simulated starts in motion within 2° of heading after 10 s on every seed (tests/fusion/test_attitude.py).
-   It is a guard more than an estimate: learnt second, the bias is found only in part (0.1 m/s² of a simulated
-   0.2 after 10 minutes), since the gyro's learning takes some of its effect first.
+   An accelerometer bias b_a leaves LP[R b_a] in the filtered vector, which turns with the body and so also moves
+   the correction like a gyro bias: a consumer accelerometer's 20 mg, uncorrected, makes the regression learn a
+   wrong gyro bias (benchmarks/bench_testbed.py: consumer IMU 1.57° 6D against VQF's 1.27°). Three more states model
+   it (prior ``acc_bias_sigma_init``, 0.1 m/s², a consumer part's spread): over a block the correction turns by
+   (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g (R_i the rows of R, ΔLP their low-passed change). Learnt freely, those states
+   read BROAD's motion as a bias of tens of mg (6D 0.644° -> 0.722°) on an accelerometer whose norm at rest is within
+   a few mg of g. What they read is a lever arm: the board turns about a point a few centimetres off the sensor: a
+   least-squares fit of BROAD's accelerometer against its optical truth finds that offset, 5.3-5.7 cm along the
+   sensor's x axis, in five of the seven rotation trials (benchmarks/bench_attitude.py --only lever; 2.4 and 0.4 cm
+   in the other two). A sensor at r from the point the body turns about accelerates by ω̇ × r + ω × (ω × r), in the
+   almost-inertial frame d²(R r)/dt², which the low-pass passes as y'' r (y = LP[R], y'' from the filter's ODE),
+   fixed in the body like a bias but not a bias. Three more states model r (prior ``lever_arm_sigma_init``, 0.1 m,
+   random walk ``lever_arm_noise``; the regressor is the change of y'' over the block); on the simulated pendulum
+   the estimate finds the rod, r_z = -0.48 m of -0.5 (tests/fusion/test_attitude.py). With the lever arm taking the
+   turn's accelerations, the accelerometer's states can learn at the gyro's noise (``acc_bias_noise_acc_factor``
+   0.1, not 1): BROAD 6D 0.644° where the bias alone gave 0.722°. The block's measurement is used twice, as two
+   filters that each take the other's estimate as known and its uncertainty h P hᵀ as a rate correlated over tau_acc
+   (the covariance stays block-diagonal): first the accelerometer bias and the lever arm, from what the gyro's
+   estimate leaves; then the gyro's errors, from what the bias in use and the lever arm leave. (One joint update
+   of all twelve states: 6D 0.656°.) What is subtracted from the accelerometer is the bias
+   estimate shrunk towards zero, x - k² σ²/x per axis, none while ``|x|`` <= k σ (``acc_bias_significance`` k, 1):
+   an estimate within its uncertainty is left out, so a calibrated part's readings are kept as they are
+   (``acc_bias_in_use``). The lever arm is not subtracted (its low-passed effect on the attitude is some hundredths
+   of a degree); it only keeps the turn's accelerations out of the biases. Measured (benchmarks/bench_testbed.py,
+   bench_attitude.py): test-bed online 6D ahead of VQF in 15 of 22 conditions (8 before), the consumer IMU 1.52° ->
+   1.24° (VQF 1.27°), the 30°/s turntable 1.32° -> 0.75° (VQF 1.04°); BROAD 6D 0.638° -> 0.644°, 9D 1.922° ->
+   1.931°, offline 1.538° -> 1.505° (``offline_acc_bias_significance``).
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
    mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
    mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
@@ -178,12 +182,22 @@ class AttitudeParams:
     acc_bias_noise : float
         Random walk of the accelerometer bias, m/s²/√s (default 1e-4).
     acc_bias_noise_acc_factor : float
-        ``bias_noise_acc_factor`` for the accelerometer bias's own update (dimensionless, default 1: the whole
-        rate at which the low-passed linear acceleration moves the correction).
+        ``bias_noise_acc_factor`` for the update of the accelerometer bias and the lever arm (dimensionless).
+        Default 0.1, the gyro's (leave-one-group-out on BROAD, benchmarks/bench_attitude.py): with the lever arm
+        modelled, the accelerations of a turn about a point off the sensor are no longer read as a bias, and the
+        whole linear-acceleration noise (1) learnt the simulated consumer part's 20 mg too slowly to help.
     acc_bias_significance : float
         The accelerometer bias subtracted is the estimate x shrunk to x - k² σ²/x per axis, and none while
         ``|x|`` <= k σ (σ its standard deviation); k is this, default 1 (leave-one-group-out on BROAD: 6D picks 1 in
         every fold, 9D in eight of nine, offline 0.5); 0 subtracts the whole estimate.
+    lever_arm_sigma_init : float
+        Initial uncertainty of the lever arm r, m: the sensor's offset, in sensor axes, from the point the body
+        turns about, whose turning accelerates it by ω̇ × r + ω × (ω × r) (module notes, step 3).  Default 0.1
+        (a hand-held or body-worn sensor; BROAD's board turns about a point 5-6 cm along its x axis in most
+        rotation trials); 0 leaves
+        it out.
+    lever_arm_noise : float
+        Random walk of the lever arm, m/√s (default 1e-3: a grip that changes over minutes).
     bias_noise_mag : float
         Noise density of the vertical-bias measurement from the heading rate, rad/s·√s (default 1.8°/s·√s);
         0 turns it off.
@@ -226,6 +240,11 @@ class AttitudeParams:
         Time constant of :func:`attitude_offline`'s local-linear smoothing of the heading from the field, s.
         Default 100 (leave-one-group-out on BROAD): with the bias smoothed, the 6D heading drifts only with what
         is left of it, a ramp the local-linear fit follows, so the field can be averaged longer than online.
+    offline_acc_bias_significance : float
+        ``acc_bias_significance`` for :func:`attitude_offline`'s passes.  Default 0, the whole estimate
+        (leave-one-group-out on BROAD: 0 in all nine folds, the offline 9D total 1.548° -> 1.505° held out): the
+        accelerometer is corrected by the passes' final estimates, each from the whole record, not by a running
+        one that may still be wrong by its uncertainty.
     gyro_range : float
         The gyro's full-scale range, rad/s: a component at it is clipped (module notes, step 7).  Default 0:
         found from the readings (runs of three identical readings at an axis's extreme of the chunk, 2 rad/s or
@@ -247,8 +266,10 @@ class AttitudeParams:
     scale_noise: float = 1e-5
     acc_bias_sigma_init: float = 0.1
     acc_bias_noise: float = 1e-4
-    acc_bias_noise_acc_factor: float = 1.0
+    acc_bias_noise_acc_factor: float = 0.1
     acc_bias_significance: float = 1.0
+    lever_arm_sigma_init: float = 0.1
+    lever_arm_noise: float = 1e-3
     bias_noise_mag: float = 1.8 * _DEG
     rest_gyro: float = 2.0 * _DEG
     rest_acc: float = 0.5
@@ -264,6 +285,7 @@ class AttitudeParams:
     update_rate: float = 5.0
     offline_time_factor: float = 1.5
     offline_heading_tau: float = 100.0
+    offline_acc_bias_significance: float = 0.0
     gyro_range: float = 0.0
     acc_range: float = 0.0
 
@@ -281,6 +303,9 @@ class AttitudeParams:
             "acc_range",
             "acc_bias_noise_acc_factor",
             "acc_bias_significance",
+            "lever_arm_sigma_init",
+            "lever_arm_noise",
+            "offline_acc_bias_significance",
         }
         for f in fields(self):
             v = getattr(self, f.name)
@@ -320,6 +345,7 @@ class AttitudeParams:
                 self.acc_bias_noise**2 if self.acc_bias_sigma_init > 0 else 0.0,  # off: the states stay at 0
                 self.acc_bias_noise_acc_factor**2,
                 self.acc_bias_significance**2,
+                self.lever_arm_noise**2 if self.lever_arm_sigma_init > 0 else 0.0,
             ]
         )
 
@@ -364,6 +390,8 @@ _LAYOUT = (
     ("rest_acc_last", "ALAST", 3),
     ("linear_acc_block_sum", "ARES", 3),
     ("gyro_steps_unnormalised", "QN", 1),
+    ("lever_arm", "XL", 3),
+    ("lever_regressor", "YDD", 6),
 )
 
 
@@ -406,11 +434,11 @@ class AttitudeEstimator(Estimator):
     checks_in_kernel = True
     # state layout, checked when a state is restored (fusion/_base.py, _checked_state): the kernel indexes it
     # without bounds checks
-    # the covariance is over gyro bias, gyro scale and accelerometer bias (3 each; _new_state)
+    # the covariance is over gyro bias, gyro scale, accelerometer bias and lever arm (3 each; _new_state)
     # and the seconds of a clipped run under way at the chunk's end (step 7)
     _state_layout = (
         ("q", (4,)),
-        ("covariance", (9, 9)),
+        ("covariance", (12, 12)),
         ("saturated", ()),
         *((name, (size,)) for name, _, size in _LAYOUT),
     )
@@ -476,10 +504,19 @@ class AttitudeEstimator(Estimator):
         """
         if self._state is None:
             return None
-        x, var = self._state["acc_bias"], np.diag(self._state["covariance"])[6:]
+        x, var = self._state["acc_bias"], np.diag(self._state["covariance"])[6:9]
         k2 = self.params.acc_bias_significance**2
         keep = x * x > k2 * var
         return np.where(keep, x - k2 * var / np.where(keep, x, 1.0), 0.0)
+
+    @property
+    def lever_arm(self) -> np.ndarray | None:
+        """The current lever-arm estimate, m (sensor axes; zero if ``lever_arm_sigma_init`` is 0).
+
+        The sensor's offset from the point the body turns about.  Not subtracted: it keeps the turn's
+        accelerations out of the bias estimates (module notes, step 3).
+        """
+        return None if self._state is None else self._state["lever_arm"].copy()
 
     @property
     def bias_sigma(self) -> np.ndarray | None:
@@ -502,7 +539,12 @@ class AttitudeEstimator(Estimator):
         s[k.RESTA : k.RESTA + 3] = acc[ka]
         s[k.ALAST : k.ALAST + 3] = acc[ka]
         s[k.MOLD] = -1.0
-        cov = np.diag([p.bias_sigma_init**2] * 3 + [p.scale_sigma_init**2] * 3 + [p.acc_bias_sigma_init**2] * 3)
+        cov = np.diag(
+            [p.bias_sigma_init**2] * 3
+            + [p.scale_sigma_init**2] * 3
+            + [p.acc_bias_sigma_init**2] * 3
+            + [p.lever_arm_sigma_init**2] * 3
+        )
         state = {"q": q.copy(), "covariance": cov, "saturated": 0.0}
         for name, off, size in _LAYOUT:
             state[name] = s[getattr(k, off) : getattr(k, off) + size].copy()

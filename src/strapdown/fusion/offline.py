@@ -126,7 +126,8 @@ def attitude_offline(
 
     p = params_of(AttitudeParams, params, "attitude")
     f = p.offline_time_factor
-    po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f)
+    # the passes subtract their accelerometer bias as offline_acc_bias_significance says (attitude_estimator.py)
+    po = replace(p, tau_acc=p.tau_acc * f, tau_mag=p.tau_mag * f, acc_bias_significance=p.offline_acc_bias_significance)
     g = _v.vectors(gyro, "gyro", dtype=np.float64)
     # shape and dtype here (NaN rows mean no sample; the forward pass checks the values): a complex acc lost its
     # imaginary part in asarray, and a scalar mag (attitude_offline(g, a, 0.5)) gave an IndexError

@@ -18,6 +18,7 @@ from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache,
 from ._kernels_numba import (
     copy_into,
     gap_rate,
+    horizontal_rows,
     lowpass2,
     lowpass2_step,
     renormalised,
@@ -555,12 +556,7 @@ def _add6(out, gyro, j, dt, u):
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
 def _rows_into(qw, qx, qy, qz, sums):
-    sums[30] = 1.0 - 2.0 * (qy * qy + qz * qz)
-    sums[31] = 2.0 * (qx * qy - qw * qz)
-    sums[32] = 2.0 * (qx * qz + qw * qy)
-    sums[33] = 2.0 * (qx * qy + qw * qz)
-    sums[34] = 1.0 - 2.0 * (qx * qx + qz * qz)
-    sums[35] = 2.0 * (qy * qz - qw * qx)
+    sums[30], sums[31], sums[32], sums[33], sums[34], sums[35] = horizontal_rows(qw, qx, qy, qz)
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")

@@ -36,6 +36,19 @@ def rotate(w, x, y, z, vx, vy, vz):
 
 
 @nb.njit(cache=True, inline="always", error_model="numpy")
+def horizontal_rows(w, x, y, z):
+    """The first two rows of R(q) (q = (w, x, y, z), unit): R_0 and R_1, six numbers."""
+    return (
+        1.0 - 2.0 * (y * y + z * z),
+        2.0 * (x * y - w * z),
+        2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z),
+        1.0 - 2.0 * (x * x + z * z),
+        2.0 * (y * z - w * x),
+    )
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def rotate_back(w, x, y, z, vx, vy, vz):
     """R(q)ᵀ v."""
     return rotate(w, -x, -y, -z, vx, vy, vz)

@@ -14,6 +14,7 @@ from .._support import kernel_cache  # noqa: F401  (strapdown's own numba cache,
 from ._kernels_numba import (
     copy_into,
     gap_rate,
+    horizontal_rows,
     lowpass2,
     lowpass2_step,
     right_step,
@@ -237,12 +238,7 @@ def run(
                 kp[3 + i, 3 + i] += s_noise * blk
             # the horizontal rows of R(q), the same times diag ω, and R (b + s ω), through the tilt sensor's
             # low-pass (so lagged alike)
-            xs[0] = 1.0 - 2.0 * (qy * qy + qz * qz)
-            xs[1] = 2.0 * (qx * qy - qw * qz)
-            xs[2] = 2.0 * (qx * qz + qw * qy)
-            xs[3] = 2.0 * (qx * qy + qw * qz)
-            xs[4] = 1.0 - 2.0 * (qx * qx + qz * qz)
-            xs[5] = 2.0 * (qy * qz - qw * qx)
+            xs[0], xs[1], xs[2], xs[3], xs[4], xs[5] = horizontal_rows(qw, qx, qy, qz)
             xs[6], xs[7], xs[8] = xs[0] * ox, xs[1] * oy, xs[2] * oz
             xs[9], xs[10], xs[11] = xs[3] * ox, xs[4] * oy, xs[5] * oz
             xs[12] = xs[0] * b0 + xs[1] * b1 + xs[2] * b2 + xs[6] * k0 + xs[7] * k1 + xs[8] * k2

@@ -33,28 +33,27 @@ How it works
    wrong gyro bias (benchmarks/bench_testbed.py: consumer IMU 1.57° 6D against VQF's 1.27°). Three more states model
    it (prior ``acc_bias_sigma_init``, 0.1 m/s², a consumer part's spread): over a block the correction turns by
    (ΔLP[R_1] b_a, -ΔLP[R_0] b_a)/g (R_i the rows of R, ΔLP their low-passed change). Learnt freely, those states
-   read BROAD's motion as a bias of tens of mg (6D 0.644° -> 0.722°) on an accelerometer whose norm at rest is within
-   a few mg of g. What they read is a lever arm: the board turns about a point a few centimetres off the sensor: a
-   least-squares fit of BROAD's accelerometer against its optical truth finds that offset, 5.3-5.7 cm along the
-   sensor's x axis, in five of the seven rotation trials (benchmarks/bench_attitude.py --only lever; 2.4 and 0.4 cm
-   in the other two). A sensor at r from the point the body turns about accelerates by ω̇ × r + ω × (ω × r), in the
-   almost-inertial frame d²(R r)/dt², which the low-pass passes as y'' r (y = LP[R], y'' from the filter's ODE),
-   fixed in the body like a bias but not a bias. Three more states model r (prior ``lever_arm_sigma_init``, 0.1 m,
-   random walk ``lever_arm_noise``; the regressor is the change of y'' over the block); on the simulated pendulum
-   the estimate finds the rod, r_z = -0.48 m of -0.5 (tests/fusion/test_attitude.py). With the lever arm taking the
-   turn's accelerations, the accelerometer's states can learn at the gyro's noise (``acc_bias_noise_acc_factor``
-   0.1, not 1): BROAD 6D 0.644° where the bias alone gave 0.722°. The block's measurement is used twice, as two
-   filters that each take the other's estimate as known and its uncertainty h P hᵀ as a rate correlated over tau_acc
-   (the covariance stays block-diagonal): first the accelerometer bias and the lever arm, from what the gyro's
-   estimate leaves; then the gyro's errors, from what the bias in use and the lever arm leave. (One joint update
-   of all twelve states: 6D 0.656°.) What is subtracted from the accelerometer is the bias
-   estimate shrunk towards zero, x - k² σ²/x per axis, none while ``|x|`` <= k σ (``acc_bias_significance`` k, 1):
-   an estimate within its uncertainty is left out, so a calibrated part's readings are kept as they are
-   (``acc_bias_in_use``). The lever arm is not subtracted (its low-passed effect on the attitude is some hundredths
-   of a degree); it only keeps the turn's accelerations out of the biases. Measured (benchmarks/bench_testbed.py,
-   bench_attitude.py): test-bed online 6D ahead of VQF in 15 of 22 conditions (8 before), the consumer IMU 1.52° ->
-   1.24° (VQF 1.27°), the 30°/s turntable 1.32° -> 0.75° (VQF 1.04°); BROAD 6D 0.638° -> 0.644°, 9D 1.922° ->
-   1.931°, offline 1.538° -> 1.505° (``offline_acc_bias_significance``).
+   read BROAD's motion as a bias of tens of mg (6D 0.644° -> 0.722°). What they read is a lever arm: the board turns
+   about a point a few centimetres off the sensor, and a least-squares fit of BROAD's accelerometer against its
+   optical truth finds that offset, 5.3-5.7 cm along the sensor's x axis, in five of the seven rotation trials
+   (benchmarks/bench_attitude.py --only lever; 2.4 and 0.4 cm in the other two). A sensor at r from the point the
+   body turns about accelerates by ω̇ × r + ω × (ω × r), in the almost-inertial frame d²(R r)/dt², which the
+   low-pass passes as y'' r (y = LP[R], y'' from the filter's ODE), fixed in the body like a bias but not a bias.
+   Three more states model r (prior ``lever_arm_sigma_init``, 0.1 m, random walk ``lever_arm_noise``; the regressor
+   is the change of y'' over the block); on the simulated pendulum the estimate finds the rod, r_z = -0.48 m of -0.5
+   (tests/fusion/test_attitude.py). With the lever arm taking the turn's accelerations, the accelerometer's states
+   can learn at the gyro's noise (``acc_bias_noise_acc_factor`` 0.1, not 1): BROAD 6D 0.644° where the bias alone
+   gave 0.722°. The block's measurement is used twice, as two filters that each take the other's estimate as known
+   and its uncertainty h P hᵀ as a rate correlated over tau_acc (the covariance stays block-diagonal): first the
+   accelerometer bias and the lever arm, from what the gyro's estimate leaves; then the gyro's errors, from what the
+   bias in use and the lever arm leave. (One joint update of all twelve states: 6D 0.656°.) What is subtracted from
+   the accelerometer is the bias estimate shrunk towards zero, x - k² σ²/x per axis, none while ``|x|`` <= k σ
+   (``acc_bias_significance`` k, 1): an estimate within its uncertainty is left out, so a calibrated part's readings
+   are kept as they are (``acc_bias_in_use``). The lever arm is not subtracted (its low-passed effect on the
+   attitude is some hundredths of a degree); it only keeps the turn's accelerations out of the biases. Measured
+   (benchmarks/bench_testbed.py, bench_attitude.py): test-bed online 6D ahead of VQF in 15 of 22 conditions (8
+   before), the consumer IMU 1.52° -> 1.24° (VQF 1.27°), the 30°/s turntable 1.32° -> 0.75° (VQF 1.04°); BROAD 6D
+   0.638° -> 0.644°, 9D 1.922° -> 1.931°, offline 1.538° -> 1.505° (``offline_acc_bias_significance``).
 4. Bias at rest.  When gyro and accelerometer have stayed near their 0.5 s means for ``rest_time`` and the
    mean rate is plausible as a bias (within three prior spreads; a turntable is steady but not at rest), the
    mean gyro is a direct measurement of the bias on all three axes, as noisy as the gyro's scatter about that
@@ -189,13 +188,13 @@ class AttitudeParams:
     acc_bias_significance : float
         The accelerometer bias subtracted is the estimate x shrunk to x - k² σ²/x per axis, and none while
         ``|x|`` <= k σ (σ its standard deviation); k is this, default 1 (leave-one-group-out on BROAD: 6D picks 1 in
-        every fold, 9D in eight of nine, offline 0.5); 0 subtracts the whole estimate.
+        every fold, 9D in eight of nine; offline: ``offline_acc_bias_significance``); 0 subtracts the whole
+        estimate.
     lever_arm_sigma_init : float
         Initial uncertainty of the lever arm r, m: the sensor's offset, in sensor axes, from the point the body
         turns about, whose turning accelerates it by ω̇ × r + ω × (ω × r) (module notes, step 3).  Default 0.1
         (a hand-held or body-worn sensor; BROAD's board turns about a point 5-6 cm along its x axis in most
-        rotation trials); 0 leaves
-        it out.
+        rotation trials); 0 leaves it out.
     lever_arm_noise : float
         Random walk of the lever arm, m/√s (default 1e-3: a grip that changes over minutes).
     bias_noise_mag : float

@@ -539,3 +539,25 @@ def test_parquet_errors_name_the_file(tmp_path):
     code, text, _ = _run_measured("convert", none, "--to", "euler", "-o", tmp_path / "out.csv")
     assert code == 1 and f"{none}: no quat columns found" in text, text
     assert not (tmp_path / "out.csv").exists()
+
+
+def test_an_output_to_a_pipe_or_device_is_written_through_not_replaced(tmp_path):
+    # `-o /dev/null` once renamed a temporary file onto /dev/null, which, run as root, left a regular file there
+    # for the whole machine.  A FIFO stands in for the device here (no root needed): it must stay a FIFO and
+    # receive the whole output
+    import stat
+    import threading
+
+    from strapdown._support.files import atomic_path
+
+    fifo = tmp_path / "out.csv"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    with atomic_path(fifo) as tmp:
+        tmp.write_bytes(b"t,qw\n0,1\n")
+    reader.join(timeout=30)
+    assert got == [b"t,qw\n0,1\n"]
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]  # no temporary left beside it

@@ -230,6 +230,22 @@ class GuardedFile(io.FileIO):
 
 
 @contextmanager
+def _through_temp(path: Path) -> Iterator[Path]:
+    """atomic_path for a target that is not a regular file (a device, a pipe).
+
+    The output is made in a temporary directory (the target's own may not be writable: /dev) under the target's
+    name, then copied into the target whole.
+    """
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="strapdown-") as folder:
+        tmp = Path(folder) / path.name
+        yield tmp
+        with open(tmp, "rb") as src, open(path, "wb") as dst:
+            shutil.copyfileobj(src, dst)
+
+
+@contextmanager
 def atomic_path(path) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; on success rename it onto ``path``, on any error delete it.
 
@@ -240,6 +256,12 @@ def atomic_path(path) -> Iterator[Path]:
     names ``path``.
     """
     path = Path(path)
+    if path.exists() and not path.is_file() and not path.is_dir():
+        # a device or a pipe (-o /dev/null, /dev/stdout, a FIFO): written through once the output is whole, never
+        # replaced; a rename onto /dev/null run as root turned the device into a regular file for the machine
+        with _through_temp(path) as tmp:
+            yield tmp
+        return
     if _SCRATCH.search(path.parent.name) and not path.parent.is_dir():
         # a part for a scratch folder that its run has removed (interrupted): recreating it would leave it behind
         raise FileNotFoundError(errno.ENOENT, f"the scratch folder of an abandoned run is gone: {path.parent}")

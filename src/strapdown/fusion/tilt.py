@@ -38,8 +38,8 @@ accelerometer, or inclinometer angles):
    first built fed the rate back through the current R, which is wrong by the rotation during the lag: on a
    30°/s turntable it learnt nothing, 2.8° against VQF's 1.0°; and its fixed gain was slow from the start:
    8.5° against 6.5° with a 5°/s bias.)  The scale factors matter in fast, sustained rotation, where a 1 %
-   error turns the frame by 1 % of the rotation: on BROAD they take the inclination error from 0.764° to
-   0.646°; on the simulated test-bed (random motion, 0.3-0.5 % scale errors) they change little.  The
+   error turns the frame by 1 % of the rotation: on BROAD they take the inclination error from 0.787° to
+   0.644°; on the simulated test-bed (random motion, 0.3-0.5 % scale errors) they change little.  The
    measurement noise density is ``tau_bias · bias_noise``, so that once the bias is known the loop forgets
    over ``tau_bias``; at rest ``tau_rest_bias · bias_noise``.  The regressor has no vertical row, so in motion
    the component along the vertical is learnt only as the body tilts.  The noise grows with the correction rate
@@ -125,7 +125,7 @@ class TiltParams:
     scale_sigma_init : float
         Spread of the gyro's scale-factor errors before any data (dimensionless; the gyro reads (1 + s) ω + b).
         Default 0.01, a consumer MEMS gyro's sensitivity tolerance (±1-3 % on datasheets), chosen by
-        leave-one-group-out on BROAD (0: 0.764°, 0.002: 0.699°, 0.005: 0.658°, 0.01: 0.646°, 0.02: 0.674°); 0
+        leave-one-group-out on BROAD (0: 0.787°, 0.002: 0.712°, 0.005: 0.664°, 0.01: 0.644°, 0.02: 0.651°); 0
         turns the scale estimation off.
     scale_noise : float
         Random walk of the scale-factor errors, 1/√s.  Default 1e-5 (the AttitudeEstimator's).
@@ -136,8 +136,8 @@ class TiltParams:
         bias (on a turntable it is exactly one, (ω × b_a)/g); the loop's measurement noise grows by that rate,
         coloured over tau_acc (module notes, 4).  On the simulated test-bed 0.1 keeps every condition within
         0.3 % of VQF or better (0: turntable 2 % worse; 0.2: ideal IMU 2.4 % worse; 0.5: up to 10 %); on BROAD
-        0: 0.648°, 0.1: 0.646°, 0.2: 0.642°, 0.5: 0.639°, the gain all in the attached-magnet trials, so that
-        leave-one-group-out picks 0.5 in eight folds and 0 in the ninth (held out 0.654°).
+        0: 0.645°, 0.1: 0.644°, 0.2: 0.642°, 0.5: 0.640°, the gain all in the attached-magnet trials, so that
+        leave-one-group-out picks 0.5 in eight folds and 0 in the ninth (held out 0.650°).
     bias_limit : float
         Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
         pulled towards zero over ten hours (a Gauss-Markov bias), so a larger bias the data show is learnt, and

@@ -195,6 +195,8 @@ LOGO_GRIDS = {
     "9D lever_arm_sigma_init": ([0.0, 0.05, 0.1, 0.2], "9D", "total"),
     "acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "6D", "inclination"),
     "9D acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "9D", "total"),
+    "update_rate": ([2.0, 3.0, 4.0, 5.0, 10.0], "6D", "inclination"),
+    "9D update_rate": ([2.0, 3.0, 4.0, 5.0, 10.0], "9D", "total"),
     "offline_acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "offline", "total"),
     "offline_heading_tau": ([20.0, 30.0, 60.0, 100.0], "offline", "total"),
     "offline_time_factor": ([1.0, 1.5, 2.0, 3.0], "offline", "inclination"),

@@ -5,7 +5,7 @@ import pickle
 
 import numpy as np
 
-from strapdown.fusion import Estimate, attitude
+from strapdown.fusion import AttitudeParams, Estimate, attitude
 from strapdown.fusion._base import float32_if
 from strapdown.fusion.estimate import PiecewiseEstimate
 
@@ -48,8 +48,8 @@ def test_piecewise_estimate_behaves_as_an_estimate():
 
 
 def test_attitude_bias_changes_at_block_updates_only():
-    # 25 Hz and the default 5 Hz block rate: a block of 5 samples, after the first (the start, no interval); a
-    # 2 °/s bias on z is being learnt
+    # 25 Hz and the default block rate: a block ends where its intervals reach 1/update_rate (9 samples at 3 Hz),
+    # after the first sample (the start, no interval); a 2 °/s bias on z is being learnt
     n = 400
     gyro = np.zeros((n, 3))
     gyro[:, 2] = np.deg2rad(2.0)
@@ -57,12 +57,14 @@ def test_attitude_bias_changes_at_block_updates_only():
     est = attitude(gyro, acc, dt=0.04)
     change = np.flatnonzero(np.any(np.diff(est.bias, axis=0) != 0, axis=1)) + 1
     assert len(change) > 10
-    assert np.all(change % 5 == 1)
+    block = int(np.ceil(25.0 / AttitudeParams().update_rate))
+    assert np.all(change % block == 1)
     sigma = est.extra["bias_sigma"]
     assert sigma.shape == (n, 3) and np.all(sigma > 0)
     change = np.flatnonzero(np.any(np.diff(sigma, axis=0) != 0, axis=1)) + 1
     assert len(change) > 10
-    assert np.all(change % 5 == 1)
+    block = int(np.ceil(25.0 / AttitudeParams().update_rate))
+    assert np.all(change % block == 1)
 
 
 def test_a_bad_sample_deep_in_a_chunk_is_named_and_the_state_kept():

@@ -63,7 +63,6 @@ def test_attitude_bias_changes_at_block_updates_only():
     assert sigma.shape == (n, 3) and np.all(sigma > 0)
     change = np.flatnonzero(np.any(np.diff(sigma, axis=0) != 0, axis=1)) + 1
     assert len(change) > 10
-    block = int(np.ceil(25.0 / AttitudeParams().update_rate))
     assert np.all(change % block == 1)
 
 

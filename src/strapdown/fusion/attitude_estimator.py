@@ -229,11 +229,11 @@ class AttitudeParams:
         reference; a different field meanwhile replaces it and sets the heading afresh.  Default 2.
     update_rate : float
         Rate of the bias, scale and heading updates, Hz.  Default 3: the regressors are low-passed over
-        seconds (tau_acc), so a block of a third of a second loses nothing, and each block's update of twelve
-        states costs as much as twenty samples.  On BROAD (benchmarks/bench_attitude.py, leave-one-group-out)
+        seconds (tau_acc), so a block of a third of a second loses little, and each block's update of twelve
+        states costs as much as about twelve samples.  On BROAD (benchmarks/bench_attitude.py, leave-one-group-out)
         6D 0.646°, 0.645°, 0.644°, 0.644°, 0.644° at 2, 3, 4, 5, 10 Hz (10 picked in every fold, held out
         0.644°), 9D 1.941°, 1.921°, 1.930°, 1.931°, 1.948° (3 in eight folds, held out 1.937°); 3 Hz instead of 5
-        takes the speed at 100 Hz from 4.6x to 5.5x vqf's.
+        takes the speed at 100 Hz from 4.6x to 5.5-5.8x vqf's.
     offline_time_factor : float
         :func:`attitude_offline` learns the bias and scale in passes with ``tau_acc`` and ``tau_mag`` multiplied
         by this, and low-passes the accelerometer forward and backward with ``tau_acc`` times this (a

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import strapdown_cli
+from strapdown.fusion import AttitudeParams
 from strapdown.io import read_metadata, read_table, write_table
 
 G = 9.80665
@@ -481,8 +482,6 @@ def test_one_file_with_gyro_and_acc_beside_a_later_magnetometer_file(tmp_path):
     free = np.asarray(table["heading_free"], dtype=bool)
     # the heading is free up to the end of the block update (rows 1-b, b+1-2b, ... of b = ceil(100 Hz /
     # update_rate)) that first reads the field (row 200); it shows from the next row
-    from strapdown.fusion import AttitudeParams
-
     b = int(np.ceil(100.0 / AttitudeParams().update_rate))
     end = -(-200 // b) * b
     np.testing.assert_array_equal(free, np.arange(600) <= end)

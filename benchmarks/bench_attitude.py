@@ -195,6 +195,8 @@ LOGO_GRIDS = {
     "9D lever_arm_sigma_init": ([0.0, 0.05, 0.1, 0.2], "9D", "total"),
     "acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "6D", "inclination"),
     "9D acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "9D", "total"),
+    "gyro_acc_bias_significance": ([0.0, 0.25, 0.5, 0.7, 1.0], "6D", "inclination"),
+    "9D gyro_acc_bias_significance": ([0.0, 0.25, 0.5, 0.7, 1.0], "9D", "total"),
     "update_rate": ([2.0, 3.0, 4.0, 5.0, 10.0], "6D", "inclination"),
     "9D update_rate": ([2.0, 3.0, 4.0, 5.0, 10.0], "9D", "total"),
     "offline_acc_bias_significance": ([0.0, 0.5, 1.0, 2.0], "offline", "total"),
@@ -207,19 +209,19 @@ LOGO_GRIDS = {
 }
 
 
-def leave_one_group_out(trials, tilt_only: bool = False) -> dict:
+def leave_one_group_out(trials, tilt_only: bool = False, grids=None) -> dict:
     """For each default this round moved: chosen on all groups but one, scored on the one left out (issue 13).
 
     One parameter at a time, the others at their defaults.  For every left-out group the grid value with the
     lowest mean over the other groups' trials is chosen and scored on the left-out trials; the pooled held-out
     mean (every trial scored by a choice made without its group) is printed next to the in-sample mean of the
-    default and of the best value on all trials.
+    default and of the best value on all trials.  ``grids``: the names of LOGO_GRIDS to run (default: all).
     """
     groups = np.array([logo_group(t) for t in trials])
     print(f"\nLeave-one-group-out on BROAD ({len(set(groups))} groups: {', '.join(sorted(set(groups)))})")
     out = {}
     for name, (values, mode, metric) in LOGO_GRIDS.items():
-        if tilt_only and mode != "tilt":
+        if (tilt_only and mode != "tilt") or (grids and name not in grids):
             continue
         per = {}
         key = name.split()[-1]  # the parameter ("tilt tau_acc", "9D acc_bias_significance": the same one elsewhere)
@@ -496,6 +498,7 @@ def main(argv=None):
         help="comma-separated sections: accuracy, surface, irregular, logo (or logo-tilt: the TiltEstimator's "
         "grids alone), lever, simulated, throughput (default: all)",
     )
+    ap.add_argument("--grids", help="with logo: comma-separated names of LOGO_GRIDS to run (default: all)")
     ap.add_argument("--trials", help="comma-separated trial numbers to use (default: all 22), e.g. 01,06,21")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
@@ -524,7 +527,9 @@ def main(argv=None):
         if "irregular" in sections:
             results["irregular"] = irregular(trials)
         if "logo" in sections:
-            results["leave_one_group_out"] = leave_one_group_out(trials)
+            results["leave_one_group_out"] = leave_one_group_out(
+                trials, grids=args.grids.split(",") if args.grids else None
+            )
         elif "logo-tilt" in sections:  # the TiltEstimator's grids alone (fast)
             results["leave_one_group_out"] = leave_one_group_out(trials, tilt_only=True)
         if "lever" in sections:

@@ -1,6 +1,6 @@
 """A simulated test-bed for the AttitudeEstimator, the TiltEstimator and VQF, side by side, per condition (issue 13).
 
-    python benchmarks/bench_testbed.py [--seeds 3] [--tilt-params '{"tau_acc": 2.5}'] [--json results.json]
+    python benchmarks/bench_testbed.py [--seeds 3] [--params JSON] [--tilt-params JSON] [--no-long] [--json F]
 
 Each condition varies one thing real data vary, from a common base: a consumer-grade MEMS IMU
 (``ImuModel.consumer_mems()``: noise, bias, scale and cross-axis errors, quantisation; its magnetometer
@@ -17,6 +17,9 @@ accelerating start): 6D inclination (the heading of a 6D estimate is arbitrary),
 and total of ``attitude_offline`` against offlineVQF's (both given the magnetometer), averaged over
 ``--seeds`` seeds.  Dropped rows are taken from the regular record (each kept row stamped with the end of its
 own step, as a data-ready timestamp is), the simulator's clock gives the jitter.  The truth is exact.
+
+After the table, the two turntables run for ten minutes (``long_turntables``; ``--no-long`` leaves them out), to
+show where an estimator's learning goes on a motion that cannot tell a gyro bias from an accelerometer bias.
 """
 
 from __future__ import annotations
@@ -210,11 +213,11 @@ def conditions():
     return c
 
 
-def run_condition(make, seed: int, tilt_params=None) -> dict:
+def run_condition(make, seed: int, tilt_params=None, params=None) -> dict:
     from vqf import VQF, offlineVQF
 
     traj, rate, imu, disturbances, drop, settle, *rest = make(seed)
-    params = rest[0] if rest else None
+    params = {**(params or {}), **(rest[0] if rest else {})}  # the condition's own override wins
     d = sample(
         traj,
         rate,
@@ -254,10 +257,49 @@ def run_condition(make, seed: int, tilt_params=None) -> dict:
     return out
 
 
+def long_turntables(seed: int = 0, minutes: int = 10, params=None) -> dict:
+    """The turntables for ten minutes: 6D inclination RMSE per two-minute window (not counted in the table).
+
+    On a steady turn about the vertical a horizontal gyro bias and a horizontal accelerometer bias are both fixed in
+    the body and tilt the estimate alike, so the motion cannot tell them apart, and what an estimator learns from it
+    drifts along that split for as long as the turn lasts: two minutes (the table's records) show where an estimator
+    is on the way, not where it goes.
+    """
+    from vqf import VQF
+
+    out = {}
+    for spin in (30.0, 90.0):
+        d = sample(
+            ConstantRotation(np.radians([0.0, 0.0, spin]), duration=60.0 * minutes),
+            100.0,
+            gyro="average",
+            imu=consumer(),
+            reference="ENU",
+            body="FLU",
+            seed=seed,
+        )
+        truth = d.q_true[1:]
+        est = {
+            "ours 6D": attitude(d.gyro, d.acc, dt=0.01, params=params).q,
+            "VQF 6D": VQF(0.01).updateBatch(d.gyro, d.acc)["quat6D"],
+            "Tilt 6D": tilt(d.gyro, d.acc, dt=0.01).q,
+        }
+        rows = {}
+        for name, q in est.items():
+            e = np.degrees(attitude_errors(q, truth)["inclination"])
+            rows[name] = [float(np.sqrt(np.mean(w**2))) for w in np.array_split(e, minutes // 2)]
+        out[f"turntable {spin:.0f}°/s"] = rows
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--tilt-params", type=json.loads, help="TiltParams overrides as JSON, e.g. '{\"tau_acc\": 2.5}'")
+    ap.add_argument(
+        "--params", type=json.loads, help="AttitudeParams overrides as JSON, e.g. '{\"gyro_acc_bias_significance\": 1}'"
+    )
+    ap.add_argument("--no-long", action="store_true", help="leave out the ten-minute turntables")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     try:
@@ -289,7 +331,7 @@ def main(argv=None):
     results = {}
     wins = {mode: 0 for *_, mode in pairs}
     for label, make in conditions().items():
-        per_seed = [run_condition(make, seed, args.tilt_params) for seed in range(args.seeds)]
+        per_seed = [run_condition(make, seed, args.tilt_params, args.params) for seed in range(args.seeds)]
         means = {n: float(np.mean([r[n] for r in per_seed])) for n in names}
         better = []
         for ours, ref, mode in pairs:
@@ -299,9 +341,16 @@ def main(argv=None):
         results[label] = means
     n = len(results)
     print("ours better in " + ", ".join(f"{wins[mode]}/{n} conditions in {mode}" for mode in wins))
+    long = {}
+    if not args.no_long:
+        long = long_turntables(params=args.params)
+        print("\nThe turntables for ten minutes (seed 0; not counted above): 6D inclination RMSE per two minutes")
+        for label, rows in long.items():
+            for name, windows in rows.items():
+                print(f"  {label:18} {name:8}" + "".join(f"{w:8.3f}" for w in windows))
     print(f"({time.perf_counter() - t0:.0f} s)")
     if args.json:
-        Path(args.json).write_text(json.dumps(results, indent=2))
+        Path(args.json).write_text(json.dumps({"conditions": results, "long_turntables": long}, indent=2))
     return 0
 
 

@@ -203,7 +203,8 @@ def run(gyro, acc, mag, use_mag, dts, p, s, P, out, seg_end, seg_val, flags, squ
     tau, bias prior spread (rad/s), field norm threshold (relative), dip threshold (rad), reference tau, current
     tau, new-field time, block length (s), linear-acceleration factor², start time (s), accelerometer-bias random
     walk (0: not modelled), the accelerometer bias's own linear-acceleration factor², its significance² (the
-    shrinkage of the bias in use: in_use), the lever arm's random walk² (m²/s).
+    shrinkage of the bias in use: in_use), the lever arm's random walk² (m²/s), the significance² of the bias the
+    gyro's update takes as known.
 
     Bias and its standard deviation change at block updates only, so they are not written per sample: segment
     i (``seg_end[i-1]`` to ``seg_end[i]``, from 0) holds the bias (``seg_val[0, i]``) and its standard deviations
@@ -883,14 +884,17 @@ def _block(
         R[1] = R[0]
         _pht6(P, H, PHt, 6)
         v_acc = _update6(x, P, H, z, R, PHt, K, 6)
-        # Then the gyro's errors from what the accelerometer bias in use (subtracted from the readings, so z - H_a
-        # u) and the lever arm leave; what they may still be wrong by moves the correction as the linear
-        # acceleration does, so their uncertainty counts as a rate correlated over tau_acc.
-        u0, u1, u2 = in_use(x, P, 6, p[23]), in_use(x, P, 7, p[23]), in_use(x, P, 8, p[23])
+        # Then the gyro's errors from what the accelerometer bias and the lever arm leave (z holds the raw
+        # measurement: the bias in use was added back above); what they may still be wrong by moves the correction
+        # as the linear acceleration does, so their uncertainty counts as a rate correlated over tau_acc.  The
+        # bias taken as known is the estimate shrunk by its own significance (p[25], less than the readings'
+        # p[23]): with the readings' shrinkage, the part of a real bias not yet subtracted is left for the gyro's
+        # states, and a motion that cannot tell the two apart (a steady turn) hands it over to them block by block.
+        g0, g1, g2 = in_use(x, P, 6, p[25]), in_use(x, P, 7, p[25]), in_use(x, P, 8, p[25])
         R[0] = rm + v_acc * tau_acc / T
         R[1] = R[0]
         for a in range(2):
-            d = (z0 if a == 0 else z1) - (hs[a, 6] * u0 + hs[a, 7] * u1 + hs[a, 8] * u2)
+            d = (z0 if a == 0 else z1) - (hs[a, 6] * g0 + hs[a, 7] * g1 + hs[a, 8] * g2)
             for j in range(9, NX):
                 d -= hs[a, j] * x[j]
             z[a] = d

@@ -134,9 +134,11 @@ class TiltParams:
         calibration; 0 ignores it).  Its apparent gravity offset, fixed in the body, turns the correction as the
         body turns, at a rate up to |dLP[R]/dt| acc_bias_sigma/g, which the drift loop would learn as a gyro
         bias (on a turntable it is exactly one, (ω × b_a)/g); the loop's measurement noise grows by that rate,
-        coloured over tau_acc (module notes, 4).  On the simulated test-bed 0.1 keeps every condition within
-        0.3 % of VQF or better (0: turntable 2 % worse; 0.2: ideal IMU 2.4 % worse; 0.5: up to 10 %); on BROAD
-        0: 0.645°, 0.1: 0.644°, 0.2: 0.642°, 0.5: 0.640°, the gain all in the attached-magnet trials, so that
+        coloured over tau_acc (module notes, 4).  On the simulated test-bed (``bench_testbed.py --tilt-params``,
+        at tau_acc 3.5 s) 0 and 0.1 are level, ahead of VQF 6D in 19 of 22 conditions and behind by at most
+        6.4 % (the 90°/s turntable; the pendulum +4.2 % and +4.4 %, long rests +3.2 % and +3.6 %); 0.2 wins as
+        many but every loss is larger (up to +6.9 %), 0.5 wins 13 (up to +8.4 %).  On BROAD 0: 0.645°,
+        0.1: 0.644°, 0.2: 0.642°, 0.5: 0.640°, the gain all in the attached-magnet trials, so that
         leave-one-group-out picks 0.5 in eight folds and 0 in the ninth (held out 0.650°).
     bias_limit : float
         Largest bias believed, per axis, rad/s (default 2°/s): not a clip but a prior's bound.  The estimate is
